@@ -1,0 +1,137 @@
+// Co-rotational beam (GPL-2.0-or-later). Derivation of the nodal forces.
+//
+// In the chord frame the transverse displacements of both ends vanish by construction, so
+// only the end rotations relative to the chord, th_i and th_j, deform the beam in bending.
+// The Euler-Bernoulli end moments acting ON the beam are (EI/L)(4 th_i + 2 th_j) and
+// (EI/L)(2 th_i + 4 th_j) (e.g. Crisfield, Non-linear FE analysis of solids and structures,
+// vol. 1, ch. 7); the nodes receive the opposite. The beam must also be in moment balance:
+// M_i + M_j + (x_j - x_i) x F_j = 0 with F_i = -F_j. Because the moments are perpendicular to
+// e, F_j = e x (M_i + M_j) / L solves it: L e x (e x M) = -L M for M perpendicular to e.
+// The twist moments are +-GJ/L phi e and cancel; the axial pair lies on the chord.
+#include "Beam.hpp"
+
+#include <cmath>
+
+namespace flex {
+
+BeamSection BeamSection::circular(double young, double shearModulus, double radius, double bendingFactor)
+{
+	const double A = M_PI * radius * radius, I = M_PI * std::pow(radius, 4) / 4.0;
+	return { young * A, bendingFactor * young * I, bendingFactor * shearModulus * 2.0 * I };
+}
+
+AxialResult axialForce(double strain, double EA, double L0, const AxialLaw& law, AxialState& st)
+{
+	AxialResult r;
+	const double k = EA / L0; // [N/m]
+	double       N = EA * (strain - st.plasticStrain);
+	if (!law.tensionOnly || N > 0) {
+		// return mapping on |N| <= Ny + H alpha, H = hardening * EA (force per unit strain)
+		const double H = law.hardening * EA;
+		const double f = std::abs(N) - (law.yieldForce + H * st.hardeningVar);
+		if (f > 0) {
+			const double dgamma = f / (EA + H); // plastic strain increment magnitude
+			const double sgn    = N > 0 ? 1.0 : -1.0;
+			// work of the plastic strain increment at the mean yield force (exact for linear hardening)
+			r.plasticWork = (law.yieldForce + H * (st.hardeningVar + 0.5 * dgamma)) * dgamma * L0;
+			N -= sgn * EA * dgamma;
+			st.plasticStrain += sgn * dgamma;
+			st.hardeningVar += dgamma;
+		}
+	}
+	if (law.tensionOnly && N < 0) N = 0;
+	r.N             = N;
+	r.elasticEnergy = 0.5 * N * N / k;
+	r.rupture       = (N >= law.ruptureForce) || (strain >= law.ruptureStrain);
+	return r;
+}
+
+BeamRest makeBeamRest(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj)
+{
+	BeamRest   r;
+	const Vec3 d = xj - xi;
+	r.L0         = d.norm();
+	const Quat R0 = Quat::FromTwoVectors(Vec3::UnitX(), d / r.L0);
+	r.Qi          = (oi.conjugate() * R0).normalized();
+	r.Qj          = (oj.conjugate() * R0).normalized();
+	return r;
+}
+
+namespace {
+	// rotation vector taking unit vector a onto unit vector b (perpendicular to both)
+	Vec3 rotationBetween(const Vec3& a, const Vec3& b)
+	{
+		const Vec3   c = a.cross(b);
+		const double s = c.norm();
+		if (s < 1e-300) return Vec3::Zero();
+		return (std::atan2(s, a.dot(b)) / s) * c;
+	}
+}
+
+BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj, const BeamRest& rest)
+{
+	BeamKinematics k;
+	const Vec3     d = xj - xi;
+	k.L              = d.norm();
+	k.e              = d / k.L;
+	const Quat Ri = oi * rest.Qi, Rj = oj * rest.Qj;
+	k.thetaI      = rotationBetween(k.e, Ri * Vec3::UnitX());
+	k.thetaJ      = rotationBetween(k.e, Rj * Vec3::UnitX());
+	Quat D        = Ri.conjugate() * Rj;
+	if (D.w() < 0) D.coeffs() *= -1; // shortest representation
+	k.twist = 2.0 * std::atan2(D.x(), D.w());
+	return k;
+}
+
+BeamForces beamForces(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialLaw& law, AxialState& st)
+{
+	BeamForces f;
+	const AxialResult ax = axialForce((k.L - rest.L0) / rest.L0, s.EA, rest.L0, law, st);
+	f.N                  = ax.N;
+	f.plasticWork        = ax.plasticWork;
+	f.rupture            = ax.rupture;
+	const double kb      = s.EI / rest.L0, kt = s.GJ / rest.L0;
+	const Vec3   Mbi = -kb * (4 * k.thetaI + 2 * k.thetaJ), Mbj = -kb * (2 * k.thetaI + 4 * k.thetaJ);
+	const Vec3   V   = k.e.cross(Mbi + Mbj) / k.L;
+	f.Fj             = -f.N * k.e + V;
+	f.Fi             = -f.Fj;
+	f.Mi             = Mbi + kt * k.twist * k.e;
+	f.Mj             = Mbj - kt * k.twist * k.e;
+	f.elasticEnergy  = ax.elasticEnergy
+	        + kb * (2 * k.thetaI.squaredNorm() + 2 * k.thetaI.dot(k.thetaJ) + 2 * k.thetaJ.squaredNorm()) + 0.5 * kt * k.twist * k.twist;
+	return f;
+}
+
+Eigen::Matrix<double, 12, 12> beamStiffnessLocal(const BeamSection& s, double L)
+{
+	Eigen::Matrix<double, 12, 12> K = Eigen::Matrix<double, 12, 12>::Zero();
+	auto                          pair = [&](int a, int b, double v) {
+                K(a, a) += v;
+                K(b, b) += v;
+                K(a, b) -= v;
+                K(b, a) -= v;
+	};
+	pair(0, 6, s.EA / L); // axial
+	pair(3, 9, s.GJ / L); // twist
+	const double k12 = 12 * s.EI / (L * L * L), k6 = 6 * s.EI / (L * L), k4 = 4 * s.EI / L, k2 = 2 * s.EI / L;
+	// bending in the x-y plane: (v_i, rz_i, v_j, rz_j) = (1, 5, 7, 11), sign +1;
+	// bending in the x-z plane: (w_i, ry_i, w_j, ry_j) = (2, 4, 8, 10), sign -1
+	for (int plane = 0; plane < 2; ++plane) {
+		const int    v1 = plane ? 2 : 1, r1 = plane ? 4 : 5, v2 = v1 + 6, r2 = r1 + 6;
+		const double sg = plane ? -1 : 1;
+		const int    idx[4] = { v1, r1, v2, r2 };
+		const double m[4][4] = { { k12, sg * k6, -k12, sg * k6 }, { sg * k6, k4, -sg * k6, k2 }, { -k12, -sg * k6, k12, -sg * k6 }, { sg * k6, k2, -sg * k6, k4 } };
+		for (int a = 0; a < 4; ++a)
+			for (int b = 0; b < 4; ++b)
+				K(idx[a], idx[b]) += m[a][b];
+	}
+	return K;
+}
+
+NodeShare cylinderNodeShare(double rho, double radius, double length)
+{
+	const double mh = 0.5 * rho * M_PI * radius * radius * length;
+	return { mh, mh * (radius * radius / 4.0 + length * length / 12.0) };
+}
+
+} // namespace flex

@@ -1,0 +1,51 @@
+// Contact kinematics and the Cundall-Strack law (GPL-2.0-or-later). See Contact.hpp.
+#include "Contact.hpp"
+
+#include <cmath>
+
+namespace flex {
+
+Vec3 segmentPointVelocity(double u, const Vec3& p, const Vec3& c, const Vec3& vA, const Vec3& wA, const Vec3& vB, const Vec3& wB)
+{
+	return (1 - u) * vA + u * vB + ((1 - u) * wA + u * wB).cross(c - p);
+}
+
+void distributeToSegment(double u, const Vec3& p, const Vec3& c, const Vec3& F, NodeLoad& A, NodeLoad& B)
+{
+	const Vec3 m = (c - p).cross(F);
+	A.F          = (1 - u) * F;
+	B.F          = u * F;
+	A.M          = (1 - u) * m;
+	B.M          = u * m;
+}
+
+Vec3 rotateShear(const Vec3& shear, const Vec3& nNew)
+{
+	const double mag = shear.norm();
+	if (mag == 0) return shear;
+	Vec3         t  = shear - nNew.dot(shear) * nNew;
+	const double tn = t.norm();
+	return tn > 1e-14 * mag ? Vec3(t * (mag / tn)) : Vec3::Zero();
+}
+
+// Trial shear Fs* = Fs_old - ks dus; if |Fs*| > tanPhi |Fn| it is scaled back to the cone
+// and the slip (|Fs*| - Fs_max)/ks times Fs_max is dissipated by friction.
+FrictionalResult frictionalStep(const FrictionalContact& p, double overlap, const Vec3& n, const Vec3& shearOld, const Vec3& dus)
+{
+	FrictionalResult r;
+	const double     Fn = p.kn * overlap;
+	r.normalForce       = Fn * n;
+	Vec3         Fs     = shearOld - p.ks * dus;
+	const double maxFs  = p.tanPhi * Fn, Fs2 = Fs.squaredNorm();
+	if (Fs2 > maxFs * maxFs) {
+		const double trial = std::sqrt(Fs2);
+		r.sliding          = true;
+		if (p.ks > 0) r.frictionWork = (trial - maxFs) * maxFs / p.ks;
+		Fs *= (trial > 0 ? maxFs / trial : 0.0);
+	}
+	r.shearForce    = Fs;
+	r.elasticEnergy = (p.kn > 0 ? 0.5 * Fn * Fn / p.kn : 0.0) + (p.ks > 0 ? 0.5 * Fs.squaredNorm() / p.ks : 0.0);
+	return r;
+}
+
+} // namespace flex

@@ -1,0 +1,217 @@
+// yade-flex adapter: YADE classes for deformable elements (GPL-2.0-or-later).
+//
+// Table of contents
+//  - FlexNode            Shape: a node carrying mass, inertia and all DOFs; no bound (the
+//                        elements attached to it give the contact surface)
+//  - FlexCylinder        Shape: capsule between two FlexNodes (no DOF); it IS the bond
+//                        (co-rotational beam, pkg/kernel/Beam.hpp) and the contact surface
+//  - FlexMat             Material (FrictMat + beam/bond parameters)
+//  - FlexContactGeom     IGeom of a contact touching deformable elements: point, normal,
+//                        overlap and, per side, the element nodes and axis parameter
+//  - Bo1_FlexCylinder_Aabb                       bound from both nodes
+//  - Ig2_Sphere_FlexCylinder_FlexContactGeom     sphere-cylinder
+//  - Ig2_FlexCylinder_FlexCylinder_FlexContactGeom  cylinder-cylinder (bonded neighbours never)
+//  - Law2_FlexContactGeom_FrictPhys_CundallStrack   frictional contact; forces to nodes
+//  - FlexElementEngine   internal forces of all bonds; rupture (element removed, counted)
+//  - FlexTimeStepper     critical time step from bonds and contacts
+//
+// Ownership (one contact where elements meet): a contact with element E is valid only if no
+// element sharing a node with E overlaps the same probe more (ties: lower body id wins).
+// On a straight chain this splits space at the plane through the shared node; where two
+// segments clamp to the same node the distances are bit-identical and the tie rule picks
+// one. When ownership moves from A to its neighbour B, B takes over A's shear force; A stays
+// one more step, inactive, so B reads stable data (deterministic, no data race).
+#pragma once
+#include "FlexPch.hpp"
+
+namespace yade {
+
+class FlexNode : public Shape {
+public:
+	virtual ~FlexNode() = default;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexNode, Shape,
+		"Node of deformable elements (yade-flex). Carries mass, rotational inertia and all degrees of freedom; its mass and inertia are the sum of the lumped shares of the elements attached to it (see :yref:`FlexCylinder`). Has no bound: contacts are detected on the elements.",
+		((Real, radius, NaN, , "Radius for display and output [m]; the contact radius is the element's."))
+		((vector<int>, elements, , , "Ids of the elements attached to this node (filled by FlexCylinder.attach).")),
+		createIndex();
+	);
+	// clang-format on
+	REGISTER_CLASS_INDEX(FlexNode, Shape);
+};
+REGISTER_SERIALIZABLE(FlexNode);
+
+class FlexMat : public FrictMat {
+public:
+	virtual ~FlexMat() = default;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexMat, FrictMat,
+		"Material of deformable elements (yade-flex). ``young`` is Young's modulus of the element and also enters the contact stiffness; ``poisson`` keeps FrictMat's meaning (ks/kn of contacts); the beam's shear modulus uses :yref:`FlexMat.beamPoisson`.",
+		((Real, beamPoisson, 0.3, , "Poisson ratio of the element material for G = E/(2(1+nu)) [-]"))
+		((Real, bendingFactor, 1.0, , "Scale of bending and torsion stiffness relative to a solid bar [-] (ropes: well below 1)"))
+		((bool, tensionOnly, false, , "Bonds carry no compression (ropes, wires) [-]"))
+		((Real, yieldStress, std::numeric_limits<Real>::infinity(), , "Axial yield stress [Pa]; plastic elongation beyond it"))
+		((Real, hardening, 0.0, , "Post-yield axial stiffness as a fraction of EA [-]"))
+		((Real, tensileStrength, std::numeric_limits<Real>::infinity(), , "Bond breaks when the axial stress reaches it [Pa]"))
+		((Real, ruptureStrain, std::numeric_limits<Real>::infinity(), , "Bond breaks at this total axial strain [-]")),
+		createIndex();
+	);
+	// clang-format on
+	REGISTER_CLASS_INDEX(FlexMat, FrictMat);
+};
+REGISTER_SERIALIZABLE(FlexMat);
+
+class FlexCylinder : public Shape {
+public:
+	virtual ~FlexCylinder() = default;
+	/// Validate, bind to the nodes, compute the rest state and add the lumped mass/inertia
+	/// shares to the nodes. Raises ValueError naming the problem.
+	void attach(int selfId);
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexCylinder, Shape,
+		"Deformable cylinder (yade-flex): a capsule of :yref:`FlexCylinder.radius` between two :yref:`FlexNode` bodies, with no DOF of its own. It is both the bond (co-rotational Euler-Bernoulli beam: EA/L, 12EI/L^3, EI/L, GJ/L, J = 2I) and the contact surface. Lumped shares given to each node: mass rho*pi*r^2*L/2 (the cylinder only; the spherical caps overlap the neighbour in a continuous wire and are not counted) and isotropic inertia m_h(r^2/4 + L^2/12). Create with ``yadeflex.cylinder``.",
+		((int, node1, -1, , "Id of the first node"))
+		((int, node2, -1, , "Id of the second node"))
+		((Real, radius, NaN, , "Radius [m]"))
+		((bool, attached, false, Attr::readonly, "Bound to its nodes (rest state computed)"))
+		((Real, L0, NaN, Attr::readonly, "Rest length [m]"))
+		((Quaternionr, Q1, Quaternionr::Identity(), Attr::readonly, "Element frame in node1's frame at rest"))
+		((Quaternionr, Q2, Quaternionr::Identity(), Attr::readonly, "Element frame in node2's frame at rest"))
+		((Real, massShare, 0, Attr::readonly, "Mass given to each node [kg]"))
+		((Real, inertiaShare, 0, Attr::readonly, "Rotational inertia given to each node [kg m^2]"))
+		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the element with its own mass shares [1/s^2]"))
+		((Real, plasticStrain, 0, Attr::readonly, "Permanent axial strain [-]"))
+		((Real, hardeningVar, 0, Attr::readonly, "Accumulated plastic strain [-]"))
+		((Real, axialForce, 0, Attr::readonly, "Axial force, tension positive [N]"))
+		((Real, strain, 0, Attr::readonly, "Axial strain (L-L0)/L0 [-]"))
+		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]")),
+		createIndex();,
+		.def("attach", &FlexCylinder::attach, (boost::python::arg("id")), "Bind to the nodes (called by yadeflex.cylinder).")
+	);
+	// clang-format on
+	REGISTER_CLASS_INDEX(FlexCylinder, Shape);
+};
+REGISTER_SERIALIZABLE(FlexCylinder);
+
+class FlexContactGeom : public GenericSpheresContact {
+public:
+	virtual ~FlexContactGeom() = default;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexContactGeom, GenericSpheresContact,
+		"Contact touching deformable elements (yade-flex). Per side: the nodes and the axis parameter u of the contact on the element (nodes -1: the body itself is rigid). Normal from body 1 to body 2.",
+		((Real, penetrationDepth, NaN, , "Overlap [m]"))
+		((Vector2i, nodes1, Vector2i(-1, -1), , "Nodes of side 1 (-1: rigid body)"))
+		((Vector2i, nodes2, Vector2i(-1, -1), , "Nodes of side 2 (-1: rigid body)"))
+		((Real, u1, 0, , "Axis parameter on side 1 [-]"))
+		((Real, u2, 0, , "Axis parameter on side 2 [-]"))
+		((Vector3r, axis1, Vector3r::Zero(), , "Axis point (or centre) of side 1 [m]"))
+		((Vector3r, axis2, Vector3r::Zero(), , "Axis point (or centre) of side 2 [m]"))
+		((Vector3r, relVel, Vector3r::Zero(), , "Velocity of side 2 relative to side 1 at the contact point [m/s]"))
+		((bool, active, true, , "Owned: this interaction carries the contact force"))
+		((long, lastActiveIter, -2, , "Last iteration at which it was active"))
+		((bool, handover, false, , "Took over the shear force of a neighbour this step"))
+		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]")),
+		createIndex();
+	);
+	// clang-format on
+	REGISTER_CLASS_INDEX(FlexContactGeom, GenericSpheresContact);
+};
+REGISTER_SERIALIZABLE(FlexContactGeom);
+
+class Bo1_FlexCylinder_Aabb : public BoundFunctor {
+public:
+	void go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, const Se3r&, const Body*) override;
+	FUNCTOR1D(FlexCylinder);
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Bo1_FlexCylinder_Aabb, BoundFunctor, "Axis-aligned box of a :yref:`FlexCylinder` from both nodes' current positions (so detection follows both ends).");
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(Bo1_FlexCylinder_Aabb);
+
+class Ig2_Sphere_FlexCylinder_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override
+	{
+		throw std::logic_error("Ig2_Sphere_FlexCylinder_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_Sphere_FlexCylinder_FlexContactGeom, IGeomFunctor, "Sphere - :yref:`FlexCylinder` contact with node-interpolated kinematics and ownership at shared nodes (one contact, continuous force).");
+	// clang-format on
+	FUNCTOR2D(Sphere, FlexCylinder);
+	DEFINE_FUNCTOR_ORDER_2D(Sphere, FlexCylinder);
+};
+REGISTER_SERIALIZABLE(Ig2_Sphere_FlexCylinder_FlexContactGeom);
+
+class Ig2_FlexCylinder_FlexCylinder_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f, const shared_ptr<Interaction>& I) override
+	{
+		throw std::logic_error("Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::goReverse called.");
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom, IGeomFunctor, "Contact between :yref:`FlexCylinder` elements of different chains (parallel, crossing and intersecting axes handled). Elements sharing a node never interact: their pair is switched off once, for good, and costs nothing afterwards.");
+	// clang-format on
+	FUNCTOR2D(FlexCylinder, FlexCylinder);
+	DEFINE_FUNCTOR_ORDER_2D(FlexCylinder, FlexCylinder);
+};
+REGISTER_SERIALIZABLE(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom);
+
+class Law2_FlexContactGeom_FrictPhys_CundallStrack : public LawFunctor {
+public:
+	bool go(shared_ptr<IGeom>&, shared_ptr<IPhys>&, Interaction*) override;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS(Law2_FlexContactGeom_FrictPhys_CundallStrack, LawFunctor,
+		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Books 'flexContactElastic' and 'flexFriction' in O.energy.",
+		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, frictIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+	);
+	// clang-format on
+	FUNCTOR2D(FlexContactGeom, FrictPhys);
+};
+REGISTER_SERIALIZABLE(Law2_FlexContactGeom_FrictPhys_CundallStrack);
+
+class FlexElementEngine : public GlobalEngine {
+	std::vector<Body::id_t> cylinders; // cache of element ids
+	size_t                  cachedBodyCount = 0;
+	void                    refresh();
+
+public:
+	void action() override;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS(FlexElementEngine, GlobalEngine,
+		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp). A bond that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic' and 'flexRupture' in O.energy.",
+		((int, nRuptured, 0, , "Number of bonds ruptured so far [-]"))
+		((vector<int>, rupturedIds, , Attr::readonly, "Ids of ruptured elements, in order"))
+		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, plastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, ruptIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+	);
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(FlexElementEngine);
+
+class FlexTimeStepper : public GlobalEngine {
+public:
+	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
+	Real omega2Bonds() const;
+	Real omega2Contacts() const;
+	Real critical() const;
+	void action() override;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
+		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational. Runs every :yref:`FlexTimeStepper.interval` steps.",
+		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
+		((int, interval, 50, , "Recompute every this many steps [-]"))
+		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]")),
+		,
+		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")
+		.def("omega2Bonds", &FlexTimeStepper::omega2Bonds, "Bound of the largest omega^2 from bonds [1/s^2]")
+		.def("omega2Contacts", &FlexTimeStepper::omega2Contacts, "Bound of the largest omega^2 from contacts [1/s^2]")
+	);
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(FlexTimeStepper);
+
+} // namespace yade

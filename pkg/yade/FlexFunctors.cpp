@@ -1,0 +1,164 @@
+// yade-flex adapter: contact geometry and contact law (GPL-2.0-or-later).
+// The numerics are in pkg/kernel; this file unpacks YADE state, calls them, writes back.
+#include "FlexCommon.hpp"
+
+#include <lib/factory/ClassFactory.hpp>
+
+namespace yade {
+
+YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Law2_FlexContactGeom_FrictPhys_CundallStrack));
+
+namespace {
+	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
+	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherOf1, const Body::id_t* beaten1, int nb1, Body::id_t otherOf2, const Body::id_t* beaten2, int nb2)
+	{
+		const bool wasActive = g.lastActiveIter == scene->iter - 1;
+		g.active             = own;
+		g.handover           = false;
+		if (!own) return; // lastActiveIter untouched: neighbours may read this interaction now
+		if (!wasActive) {
+			Vector3r sh;
+			if ((nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh))
+			    || (nb2 && flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh))) {
+				g.handover      = true;
+				g.handoverShear = sh;
+			}
+		}
+		g.lastActiveIter = scene->iter;
+	}
+}
+
+bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	const Real          R   = static_cast<const Sphere&>(*cm1).radius;
+	const FlexCylinder& cyl = static_cast<const FlexCylinder&>(*cm2);
+	const State *       sa = flexa::stateOf(scene, cyl.node1), *sb = flexa::stateOf(scene, cyl.node2);
+	const bool          isNew = !I->geom;
+	if (!sa || !sb) {
+		if (isNew) return false;
+		static_cast<FlexContactGeom&>(*I->geom).active = false;
+		return true;
+	}
+	const Vector3r           P = st1.pos, xa = sa->pos + shift2, xb = sb->pos + shift2;
+	const flex::PointSegment ps      = flex::closestPointOnSegment(P, xa, xb);
+	const Real               overlap = R + cyl.radius - (P - ps.point).norm();
+	if (isNew && overlap <= 0 && !force) return false;
+	Body::id_t beaten[8];
+	int        nb  = 0;
+	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, flexa::probeOverlap(scene, cyl, P, R), beaten, nb);
+	if (isNew && !own) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	g.normal           = flex::contactNormal(P, ps.point, Vector3r::Zero(), xb - xa, isNew ? Vector3r::Zero() : g.normal);
+	g.penetrationDepth = overlap;
+	g.refR1            = R;
+	g.refR2            = cyl.radius;
+	g.contactPoint     = P + (R - 0.5 * overlap) * g.normal;
+	g.nodes1           = Vector2i(-1, -1);
+	g.nodes2           = Vector2i(cyl.node1, cyl.node2);
+	g.u1               = 0;
+	g.u2               = ps.u;
+	g.axis1            = P;
+	g.axis2            = ps.point;
+	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - P);
+	const Vector3r v2  = flex::segmentPointVelocity(ps.u, ps.point, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
+	g.relVel           = v2 - v1;
+	finishGeom(scene, g, own, I, I->getId1(), beaten, nb, -1, nullptr, 0);
+	return true;
+}
+
+bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	const FlexCylinder& c1 = static_cast<const FlexCylinder&>(*cm1);
+	const FlexCylinder& c2 = static_cast<const FlexCylinder&>(*cm2);
+	if (flexa::shareNode(c1, c2)) {
+		// bonded neighbours: switch the pair off for as long as it exists (InteractionLoop
+		// then skips it at the cost of a flag test)
+		I->functorCache.geomExists = false;
+		return false;
+	}
+	const State *a0 = flexa::stateOf(scene, c1.node1), *a1 = flexa::stateOf(scene, c1.node2);
+	const State *b0 = flexa::stateOf(scene, c2.node1), *b1 = flexa::stateOf(scene, c2.node2);
+	const bool   isNew = !I->geom;
+	if (!a0 || !a1 || !b0 || !b1) {
+		if (isNew) return false;
+		static_cast<FlexContactGeom&>(*I->geom).active = false;
+		return true;
+	}
+	const Vector3r             xb0 = b0->pos + shift2, xb1 = b1->pos + shift2;
+	const flex::SegmentSegment ss      = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
+	const Real                 overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
+	if (isNew && overlap <= 0 && !force) return false;
+	Body::id_t beaten1[8], beaten2[8];
+	int        nb1 = 0, nb2 = 0;
+	// each side tests its own neighbours with the other side's closest point as a probe
+	const bool own = overlap > 0 && flexa::owns(scene, c1, I->getId1(), ss.p2, c2.radius, flexa::probeOverlap(scene, c1, ss.p2, c2.radius), beaten1, nb1)
+	        && flexa::owns(scene, c2, I->getId2(), ss.p1, c1.radius, flexa::probeOverlap(scene, c2, ss.p1, c1.radius), beaten2, nb2);
+	if (isNew && !own) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	g.normal           = flex::contactNormal(ss.p1, ss.p2, a1->pos - a0->pos, xb1 - xb0, isNew ? Vector3r::Zero() : g.normal);
+	g.penetrationDepth = overlap;
+	g.refR1            = c1.radius;
+	g.refR2            = c2.radius;
+	g.contactPoint     = ss.p1 + (c1.radius - 0.5 * overlap) * g.normal;
+	g.nodes1           = Vector2i(c1.node1, c1.node2);
+	g.nodes2           = Vector2i(c2.node1, c2.node2);
+	g.u1               = ss.s;
+	g.u2               = ss.t;
+	g.axis1            = ss.p1;
+	g.axis2            = ss.p2;
+	const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
+	const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
+	g.relVel           = v2 - v1;
+	finishGeom(scene, g, own, I, I->getId2(), beaten1, nb1, I->getId1(), beaten2, nb2);
+	return true;
+}
+
+namespace {
+	// Put force F (acting at c) on one side: a rigid body, or the two nodes of a segment.
+	void applySide(Scene* scene, Body::id_t body, const Vector2i& nodes, Real u, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
+	{
+		if (nodes[0] < 0) {
+			scene->forces.addForce(body, F);
+			scene->forces.addTorque(body, (c - axisPoint).cross(F));
+			return;
+		}
+		flex::NodeLoad A, B;
+		flex::distributeToSegment(u, axisPoint, c, F, A, B);
+		scene->forces.addForce(nodes[0], A.F);
+		scene->forces.addTorque(nodes[0], A.M);
+		scene->forces.addForce(nodes[1], B.F);
+		scene->forces.addTorque(nodes[1], B.M);
+	}
+}
+
+bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
+{
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*ig);
+	FrictPhys&       p = static_cast<FrictPhys&>(*ip);
+	if (!g.active) {
+		// writes nothing: a neighbour may take over this contact's shear force this step.
+		// Kept one step after its last active step, then erased.
+		return g.lastActiveIter >= scene->iter - 1;
+	}
+	const Vector3r&              n     = g.normal;
+	const Vector3r               shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
+	const Vector3r               dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
+	const flex::FrictionalContact fc { p.kn, p.ks, p.tangensOfFrictionAngle };
+	const flex::FrictionalResult  r = flex::frictionalStep(fc, g.penetrationDepth, n, shear, dus);
+	p.normalForce                    = r.normalForce;
+	p.shearForce                     = r.shearForce;
+	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
+	applySide(scene, I->getId1(), g.nodes1, g.u1, g.axis1, g.contactPoint, -F);
+	applySide(scene, I->getId2(), g.nodes2, g.u2, g.axis2, g.contactPoint, F);
+	if (scene->trackEnergy) {
+		scene->energy->add(r.elasticEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
+		scene->energy->add(r.frictionWork, "flexFriction", frictIx, false);
+	}
+	return true;
+}
+
+} // namespace yade

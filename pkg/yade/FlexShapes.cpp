@@ -1,0 +1,82 @@
+// yade-flex adapter: shapes, material, geometry, bound (GPL-2.0-or-later).
+#include "FlexCommon.hpp"
+
+#include <lib/factory/ClassFactory.hpp>
+
+#include <sstream>
+
+namespace yade {
+
+YADE_PLUGIN((FlexNode)(FlexMat)(FlexCylinder)(FlexContactGeom)(Bo1_FlexCylinder_Aabb));
+
+namespace {
+	[[noreturn]] void bad(int id, const std::string& what)
+	{
+		std::ostringstream os;
+		os << "FlexCylinder #" << id << ": " << what;
+		throw std::invalid_argument(os.str());
+	}
+	bool finite(const Vector3r& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+}
+
+void FlexCylinder::attach(int selfId)
+{
+	Scene* scene = Omega::instance().getScene().get();
+	if (selfId < 0 || selfId >= (int)scene->bodies->size() || !(*scene->bodies)[selfId]) bad(selfId, "no such body");
+	const shared_ptr<Body>& self = (*scene->bodies)[selfId];
+	if (self->shape.get() != this) bad(selfId, "the body with this id does not hold this shape");
+	if (attached) bad(selfId, "already attached");
+	if (!(radius > 0) || !std::isfinite(radius)) bad(selfId, "radius must be positive and finite, got " + std::to_string(radius));
+	if (node1 == node2) bad(selfId, "both ends are the same node #" + std::to_string(node1));
+	const int ids[2] = { node1, node2 };
+	for (int id : ids) {
+		if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id]) bad(selfId, "end node #" + std::to_string(id) + " does not exist");
+		const shared_ptr<Body>& n = (*scene->bodies)[id];
+		if (!n->shape || !dynamic_cast<FlexNode*>(n->shape.get()))
+			bad(selfId, "end body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape")) + ", not a FlexNode");
+		if (!finite(n->state->pos)) bad(selfId, "end node #" + std::to_string(id) + " has a non-finite position");
+	}
+	const FlexMat* mat = dynamic_cast<const FlexMat*>(self->material.get());
+	if (!mat) bad(selfId, "material must be a FlexMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
+	if (!(mat->density > 0) || !std::isfinite(mat->density)) bad(selfId, "material density must be positive and finite");
+	if (!(mat->young > 0) || !std::isfinite(mat->young)) bad(selfId, "material young must be positive and finite");
+	if (!(mat->bendingFactor >= 0)) bad(selfId, "material bendingFactor must be >= 0");
+	State&          s1 = *(*scene->bodies)[node1]->state;
+	State&          s2 = *(*scene->bodies)[node2]->state;
+	const Vector3r  d  = s2.pos - s1.pos;
+	if (!(d.norm() > 1e-9 * radius)) bad(selfId, "nodes #" + std::to_string(node1) + " and #" + std::to_string(node2) + " coincide (zero length)");
+
+	const flex::BeamRest rest = flex::makeBeamRest(s1.pos, s2.pos, s1.ori, s2.ori);
+	L0                        = rest.L0;
+	Q1                        = rest.Qi;
+	Q2                        = rest.Qj;
+	const flex::NodeShare sh  = flex::cylinderNodeShare(mat->density, radius, L0);
+	massShare                 = sh.mass;
+	inertiaShare              = sh.inertia;
+	omega2                    = flex::beamMaxOmega2(flexa::section(*mat, radius), L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
+	for (State* s : { &s1, &s2 }) {
+		s->mass += sh.mass;
+		s->inertia += Vector3r::Constant(sh.inertia);
+	}
+	for (int id : ids)
+		static_cast<FlexNode*>((*scene->bodies)[id]->shape.get())->elements.push_back(selfId);
+	self->setDynamic(false);
+	self->state->pos = 0.5 * (s1.pos + s2.pos);
+	attached         = true;
+}
+
+void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, const Se3r&, const Body*)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Bo1_FlexCylinder_Aabb: periodic scenes are not supported by yade-flex yet.");
+	const FlexCylinder& c  = static_cast<const FlexCylinder&>(*sh);
+	const State*        s1 = flexa::stateOf(scene, c.node1);
+	const State*        s2 = flexa::stateOf(scene, c.node2);
+	if (!s1 || !s2) return; // a node was erased: no bound, no new contact
+	if (!bv) bv = shared_ptr<Bound>(new Aabb);
+	Aabb*          aabb = static_cast<Aabb*>(bv.get());
+	const Vector3r r    = Vector3r::Constant(c.radius);
+	aabb->min           = s1->pos.cwiseMin(s2->pos) - r;
+	aabb->max           = s1->pos.cwiseMax(s2->pos) + r;
+}
+
+} // namespace yade

@@ -1,0 +1,20 @@
+"""yade-flex: deformable cylinders (wires, rings, ropes) for YADE.
+
+Use inside a YADE session or script::
+
+    import yadeflex as yf
+    steel = yf.steel()
+    nodes, cyls = yf.chain([(0, 0, 0), (1, 0, 0)], radius=0.005, material=steel, segments=10, fixed=[0])
+    O.engines = yf.engines(damping=0.0)
+
+Units are SI throughout: m, kg, s, N, Pa.
+"""
+from .materials import flex_material, steel, rope_6x7_8mm
+from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
+from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on
+
+__all__ = [
+    "flex_material", "steel", "rope_6x7_8mm",
+    "node", "cylinder", "chain", "ring", "helix", "net", "fix", "check_finite",
+    "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
+]

@@ -1,0 +1,184 @@
+"""Builders: nodes, deformable cylinders, chains (wires, ropes), rings, helices, nets.
+
+Every builder validates its input and raises ValueError naming the problem before anything
+is added to the scene.
+"""
+import math
+
+from yade import O
+from yade.wrapper import Body, FlexNode, FlexCylinder, FlexMat
+from yade.minieigenHP import Vector3
+
+
+def _positive(name, v):
+    try:
+        ok = float(v) > 0 and math.isfinite(float(v))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be a positive finite number, got {v!r}")
+    return float(v)
+
+
+def check_finite(name, p):
+    """Vector3 from a 3-sequence, or ValueError if it is not 3 finite numbers."""
+    try:
+        vals = [float(x) for x in p]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be 3 numbers, got {p!r}") from None
+    if len(vals) != 3 or not all(math.isfinite(x) for x in vals):
+        raise ValueError(f"{name} must be 3 finite numbers, got {p!r}")
+    return Vector3(*vals)
+
+
+def _material(material):
+    if isinstance(material, FlexMat):
+        if material.id < 0:
+            O.materials.append(material)
+        return material
+    if isinstance(material, str):
+        for m in O.materials:
+            if m.label == material:
+                if not isinstance(m, FlexMat):
+                    raise ValueError(f"material '{material}' is a {type(m).__name__}, not a FlexMat")
+                return m
+        raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
+    raise ValueError(f"material must be a FlexMat or the label of one, got {material!r}")
+
+
+def fix(ids, dofs="xyzXYZ"):
+    """Block degrees of freedom of nodes (default: clamp)."""
+    for i in ids:
+        O.bodies[i].state.blockedDOFs = dofs
+        O.bodies[i].state.vel = Vector3(0, 0, 0)
+        O.bodies[i].state.angVel = Vector3(0, 0, 0)
+
+
+def node(pos, radius, material=None, fixed=False):
+    """A FlexNode at pos [m]; radius [m] for display. Mass and inertia come from the
+    cylinders attached to it. Returns the body id."""
+    p = check_finite("node position", pos)
+    r = _positive("node radius", radius)
+    b = Body()
+    b.shape = FlexNode(radius=r)
+    b.state.pos = p
+    b.bounded = False  # contacts are detected on the elements
+    if material is not None:
+        b.material = _material(material)
+    elif len(O.materials):
+        b.material = O.materials[0]
+    i = O.bodies.append(b)
+    if fixed:
+        fix([i])
+    return i
+
+
+def cylinder(node1, node2, radius, material):
+    """A deformable cylinder (capsule, bond) between two FlexNode bodies. Returns its id."""
+    r = _positive("cylinder radius", radius)
+    mat = _material(material)
+    for n in (node1, node2):
+        if not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
+            raise ValueError(f"cylinder end {n!r} is not the id of an existing body")
+        if not isinstance(O.bodies[n].shape, FlexNode):
+            raise ValueError(f"cylinder end #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    b = Body()
+    b.shape = FlexCylinder(node1=node1, node2=node2, radius=r)
+    b.material = mat
+    b.state.pos = 0.5 * (O.bodies[node1].state.pos + O.bodies[node2].state.pos)
+    i = O.bodies.append(b)
+    try:
+        b.shape.attach(i)
+    except Exception:
+        O.bodies.erase(i)
+        raise
+    return i
+
+
+def _subdivide(points, segments, closed):
+    pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+    if len(pts) < 2:
+        raise ValueError(f"a chain needs at least 2 points, got {len(pts)}")
+    if segments is None:
+        return pts
+    if not (isinstance(segments, int) and segments >= 1):
+        raise ValueError(f"segments must be a positive integer, got {segments!r}")
+    if len(pts) != 2 or closed:
+        raise ValueError("segments= subdivides a straight chain between exactly 2 points")
+    a, b = pts
+    return [a + (b - a) * (k / segments) for k in range(segments + 1)]
+
+
+def chain(points, radius, material, segments=None, closed=False, fixed=()):
+    """Chain of cylinders through points (a wire, bar or rope).
+
+    points: sequence of 3D points [m] (or two end points with segments=N); closed: join the
+    last point to the first (a ring); fixed: indices of points to clamp.
+    Returns (node_ids, cylinder_ids)."""
+    pts = _subdivide(points, segments, closed)
+    r = _positive("chain radius", radius)
+    mat = _material(material)
+    for k in range(len(pts) - (0 if closed else 1)):
+        if (pts[(k + 1) % len(pts)] - pts[k]).norm() <= 1e-9 * r:
+            raise ValueError(f"points {k} and {(k + 1) % len(pts)} coincide: zero-length segment")
+    nodes = [node(p, r, mat) for p in pts]
+    cyls = [cylinder(nodes[k], nodes[k + 1], r, mat) for k in range(len(nodes) - 1)]
+    if closed:
+        cyls.append(cylinder(nodes[-1], nodes[0], r, mat))
+    fix([nodes[k] for k in fixed])
+    return nodes, cyls
+
+
+def ring(center, ring_radius, bar_radius, material, segments=24, axis=(0, 0, 1)):
+    """Closed ring of `segments` cylinders, radius ring_radius [m], bar radius [m], in the
+    plane normal to axis. Returns (node_ids, cylinder_ids)."""
+    c = check_finite("ring center", center)
+    R = _positive("ring radius", ring_radius)
+    if not (isinstance(segments, int) and segments >= 3):
+        raise ValueError(f"a ring needs at least 3 segments, got {segments!r}")
+    ax = check_finite("ring axis", axis)
+    if ax.norm() == 0:
+        raise ValueError("ring axis must be non-zero")
+    ax = ax / ax.norm()
+    e1 = ax.cross(Vector3(1, 0, 0) if abs(ax[0]) < 0.9 else Vector3(0, 1, 0))
+    e1 = e1 / e1.norm()
+    e2 = ax.cross(e1)
+    pts = [c + R * (math.cos(2 * math.pi * k / segments) * e1 + math.sin(2 * math.pi * k / segments) * e2) for k in range(segments)]
+    return chain(pts, bar_radius, material, closed=True)
+
+
+def helix(segments, coil_radius, pitch, wire_radius, material, turns=None, center=(0, 0, 0), fixed=(0,)):
+    """Helix along z: `segments` cylinders over `turns` turns (default: segments/20).
+    Returns (node_ids, cylinder_ids)."""
+    if not (isinstance(segments, int) and segments >= 1):
+        raise ValueError(f"segments must be a positive integer, got {segments!r}")
+    Rc = _positive("coil radius", coil_radius)
+    turns = segments / 20.0 if turns is None else _positive("turns", turns)
+    c = check_finite("helix center", center)
+    pts = []
+    for k in range(segments + 1):
+        a = 2 * math.pi * turns * k / segments
+        pts.append(c + Vector3(Rc * math.cos(a), Rc * math.sin(a), pitch * turns * k / segments))
+    return chain(pts, wire_radius, material, fixed=fixed)
+
+
+def net(n, spacing, wire_radius, material, origin=(0, 0, 0), fix_border=True):
+    """Square net of n x n nodes in the plane z = origin.z, joined by cylinders along x and
+    y. Border nodes are clamped if fix_border. Returns (node_grid[i][j], cylinder_ids)."""
+    if not (isinstance(n, int) and n >= 2):
+        raise ValueError(f"net needs n >= 2 nodes per side, got {n!r}")
+    h = _positive("spacing", spacing)
+    r = _positive("wire radius", wire_radius)
+    o = check_finite("net origin", origin)
+    mat = _material(material)
+    grid = [[node(o + Vector3(i * h, j * h, 0), r, mat) for j in range(n)] for i in range(n)]
+    cyls = []
+    for i in range(n):
+        for j in range(n):
+            if i + 1 < n:
+                cyls.append(cylinder(grid[i][j], grid[i + 1][j], r, mat))
+            if j + 1 < n:
+                cyls.append(cylinder(grid[i][j], grid[i][j + 1], r, mat))
+    if fix_border:
+        fix([grid[i][j] for i in range(n) for j in range(n) if i in (0, n - 1) or j in (0, n - 1)])
+    return grid, cyls

@@ -1,0 +1,59 @@
+"""Material presets for deformable elements (FlexMat). Each value carries its unit and source."""
+import math
+
+from yade.wrapper import FlexMat
+
+from .builders import _positive
+
+
+def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_ratio=0.25,
+                  tension_only=False, yield_stress=math.inf, hardening=0.0,
+                  tensile_strength=math.inf, rupture_strain=math.inf, bending_factor=1.0, label=""):
+    """A FlexMat, validated.
+
+    young [Pa] element Young's modulus (also the contact stiffness scale); density [kg/m3];
+    friction_deg [deg] contact friction angle; beam_poisson [-] for G = E/(2(1+nu));
+    contact_ratio [-] ks/kn of contacts (FrictMat.poisson); yield_stress, tensile_strength [Pa];
+    hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ.
+    """
+    _positive("young", young)
+    _positive("density", density)
+    for name, v in (("yield_stress", yield_stress), ("tensile_strength", tensile_strength), ("rupture_strain", rupture_strain)):
+        if not v > 0:
+            raise ValueError(f"{name} must be positive (inf to disable), got {v!r}")
+    if not (0 <= friction_deg < 90):
+        raise ValueError(f"friction_deg must be in [0, 90), got {friction_deg!r}")
+    if not (-1 < beam_poisson < 0.5):
+        raise ValueError(f"beam_poisson must be in (-1, 0.5), got {beam_poisson!r}")
+    if not (hardening >= 0 and math.isfinite(hardening)):
+        raise ValueError(f"hardening must be >= 0, got {hardening!r}")
+    if not (bending_factor >= 0 and math.isfinite(bending_factor)):
+        raise ValueError(f"bending_factor must be >= 0, got {bending_factor!r}")
+    return FlexMat(young=young, density=density, frictionAngle=math.radians(friction_deg),
+                   beamPoisson=beam_poisson, poisson=contact_ratio, tensionOnly=tension_only,
+                   yieldStress=yield_stress, hardening=hardening, tensileStrength=tensile_strength,
+                   ruptureStrain=rupture_strain, bendingFactor=bending_factor, label=label)
+
+
+def steel(label="steel", **kw):
+    """Structural steel bar: E = 200 GPa, rho = 7850 kg/m3, nu = 0.3 (EN 1993-1-1, 3.2.6)."""
+    args = dict(young=200e9, density=7850.0, beam_poisson=0.3, label=label)
+    args.update(kw)
+    return flex_material(**args)
+
+
+def rope_6x7_8mm(label="rope6x7", **kw):
+    """Wire rope 6x7 FC, d = 8 mm, modelled as a tension-only bar of the nominal diameter.
+
+    Datasheet (DESIGN.md): E = 96 GPa on the metallic area 24.32 mm2, minimum breaking force
+    37.6 kN, 22.1 kg/100 m. The model's cross-section is the nominal circle (d = 8 mm, A =
+    50.27 mm2), so E and density are scaled to keep EA, the breaking force and the mass per
+    metre of the datasheet; bending stiffness is that of the metallic area spread over the
+    strands (bending_factor 0.05, an assumption to revisit with a bending test).
+    """
+    a_nom = math.pi * 0.004 ** 2
+    a_met = 24.32e-6
+    args = dict(young=96e9 * a_met / a_nom, density=0.221 / a_nom, tension_only=True,
+                tensile_strength=37.6e3 / a_nom, bending_factor=0.05, label=label)
+    args.update(kw)
+    return flex_material(**args)

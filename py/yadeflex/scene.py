@@ -1,0 +1,88 @@
+"""Engine list, time step, energy and force read-outs for scenes with yade-flex elements."""
+import math
+
+from yade import O
+from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop, NewtonIntegrator,
+                          Bo1_Sphere_Aabb, Bo1_Facet_Aabb, Bo1_Box_Aabb, Bo1_Wall_Aabb, Bo1_FlexCylinder_Aabb,
+                          Ig2_Sphere_Sphere_ScGeom, Ig2_Facet_Sphere_ScGeom, Ig2_Box_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom,
+                          Ig2_Sphere_FlexCylinder_FlexContactGeom, Ig2_FlexCylinder_FlexCylinder_FlexContactGeom,
+                          Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
+                          Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper,
+                          FlexCylinder, FlexNode, Sphere)
+
+from .builders import check_finite
+
+
+def _min_contact_radius():
+    r = math.inf
+    for b in O.bodies:
+        if b is None:
+            continue
+        if isinstance(b.shape, (FlexCylinder, Sphere)):
+            r = min(r, b.shape.radius)
+    return r
+
+
+def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.8, timestep_interval=50, verlet=None):
+    """Standard engine list for scenes with yade-flex elements, spheres, facets, boxes, walls.
+
+    damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
+    joule goes to a physical mechanism unless the user asks otherwise (O.energy books it as
+    'nonviscDamp'). verlet [m]: collider sweep distance (default: a quarter of the smallest
+    cylinder or sphere radius in the scene). The time step is set by FlexTimeStepper.
+    """
+    g = check_finite("gravity", gravity)
+    if not (0 <= damping < 1):
+        raise ValueError(f"damping must be in [0, 1), got {damping!r}")
+    if not (0 < timestep_safety <= 1):
+        raise ValueError(f"timestep_safety must be in (0, 1], got {timestep_safety!r}")
+    for b in O.bodies:
+        if b is not None and isinstance(b.shape, FlexNode) and b.state.mass <= 0 and b.state.blockedDOFs != "xyzXYZ":
+            raise ValueError(f"FlexNode #{b.id} has no mass: attach cylinders to it or fix it")
+    if verlet is None:
+        r = _min_contact_radius()
+        verlet = 0.25 * r if math.isfinite(r) else 0.0
+    return [
+        ForceResetter(),
+        InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
+                              verletDist=verlet, label="collider"),
+        InteractionLoop(
+            [Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
+             Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
+            [Ip2_FrictMat_FrictMat_FrictPhys()],
+            [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw")],
+            label="interactionLoop"),
+        FlexElementEngine(label="flexElements"),
+        FlexTimeStepper(safety=timestep_safety, interval=timestep_interval, label="flexDt"),
+        NewtonIntegrator(gravity=g, damping=damping, label="newton"),
+    ]
+
+
+def critical_timestep():
+    """Critical time step of the current scene [s] from bonds and contacts (no change to O.dt)."""
+    return FlexTimeStepper().critical()
+
+
+def energy_budget():
+    """dict of O.energy terms plus 'total' (requires O.trackEnergy = True)."""
+    d = {k: O.energy[k] for k in O.energy.keys()}
+    d["total"] = O.energy.total()
+    return d
+
+
+def bond_forces(ids):
+    """Axial forces [N] of the given cylinders (None for ruptured/erased ones)."""
+    return [O.bodies[i].shape.axialForce if O.bodies[i] is not None else None for i in ids]
+
+
+def contacts_on(body_id, active_only=True):
+    """Real contacts of a body; FlexContactGeom contacts that are inactive (handed over to
+    a neighbour) are skipped unless active_only is False."""
+    out = []
+    for i in O.interactions.withBody(body_id):
+        if not i.isReal:
+            continue
+        if active_only and hasattr(i.geom, "active") and not i.geom.active:
+            continue
+        out.append(i)
+    return out

@@ -1,0 +1,133 @@
+"""Scenes defined once, reused by the demo, the tests and the benchmarks.
+
+Each builder resets O, builds the scene with typed, unit-annotated parameters and returns a
+dict with the ids that matter and the parameters used (saved with results).
+"""
+import math
+
+from yade import O
+from yade.minieigenHP import Vector3, Quaternion
+from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
+
+from . import builders as B
+from .materials import steel, flex_material
+from .scene import engines
+
+
+def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact_ratio=0.25, velocity=(0, 0, 0)):
+    """A rigid sphere (FrictMat) at center [m], radius [m]; returns its id."""
+    c = B.check_finite("sphere center", center)
+    r = B._positive("sphere radius", radius)
+    B._positive("sphere density", density)
+    B._positive("sphere young", young)
+    mat = FrictMat(young=young, poisson=contact_ratio, density=density, frictionAngle=math.radians(friction_deg))
+    O.materials.append(mat)
+    b = Body()
+    b.shape = Sphere(radius=r)
+    b.material = mat
+    b.state.pos = c
+    b.state.vel = B.check_finite("sphere velocity", velocity)
+    m = density * 4.0 / 3.0 * math.pi * r ** 3
+    b.state.mass = m
+    b.state.inertia = Vector3(1, 1, 1) * (0.4 * m * r * r)
+    return O.bodies.append(b)
+
+
+def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, gravity=9.81, damping=0.8, material=None):
+    """Horizontal cantilever along +x, clamped at x = 0.
+
+    load: 'tip' (force [N] downwards at the free end), 'axial' (force [N] along +x at the
+    free end) or 'self' (own weight, gravity [m/s2] along -z). Returns dict(nodes, cylinders,
+    tip, params)."""
+    if load not in ("tip", "axial", "self"):
+        raise ValueError(f"load must be 'tip', 'axial' or 'self', got {load!r}")
+    O.reset()
+    mat = material or steel()
+    nodes, cyls = B.chain([(0, 0, 0), (length, 0, 0)], radius, mat, segments=segments, fixed=[0])
+    g = (0, 0, -gravity) if load == "self" else (0, 0, 0)
+    O.engines = engines(gravity=g, damping=damping)
+    if load == "tip":
+        O.forces.setPermF(nodes[-1], Vector3(0, 0, -force))
+    elif load == "axial":
+        O.forces.setPermF(nodes[-1], Vector3(force, 0, 0))
+    return dict(nodes=nodes, cylinders=cyls, tip=nodes[-1], material=mat,
+                params=dict(segments=segments, length=length, radius=radius, load=load, force=force, gravity=gravity))
+
+
+def advance(n):
+    """Advance n steps. O.run(n, True) costs ~40 ms of waiting per call in YADE 2023.02a, so
+    short advances step in-process instead; the engines run identically."""
+    if n >= 20000:
+        O.run(n, True)
+    else:
+        for _ in range(n):
+            O.step()
+
+
+def settle(ids, rel_tol=1e-9, chunk=2000, max_steps=2_000_000):
+    """Run until the positions of `ids` change by less than rel_tol x their displacement
+    from the start over one chunk. Returns the number of steps; raises if not converged."""
+    start = [Vector3(O.bodies[i].state.pos) for i in ids]
+    prev = None
+    steps = 0
+    while steps < max_steps:
+        advance(chunk)
+        steps += chunk
+        cur = [O.bodies[i].state.pos - s for i, s in zip(ids, start)]
+        if prev is not None:
+            scale = max(c.norm() for c in cur)
+            change = max((c - p).norm() for c, p in zip(cur, prev))
+            if scale > 0 and change <= rel_tol * scale:
+                return steps
+        prev = cur
+    raise RuntimeError(f"not settled after {max_steps} steps")
+
+
+def rotate_rigidly(ids, axis, angle, center=(0, 0, 0)):
+    """Rotate bodies (positions and orientations) rigidly by angle [rad] about axis through center."""
+    q = Quaternion(Vector3(*axis).normalized(), angle)
+    c = Vector3(*center)
+    for i in ids:
+        s = O.bodies[i].state
+        s.pos = c + q * (s.pos - c)
+        s.ori = q * s.ori
+
+
+def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, gravity=9.81, damping=0.0):
+    """Helical spring of `segments` cylinders hanging from its first node under gravity."""
+    O.reset()
+    mat = steel()
+    nodes, cyls = B.helix(segments, coil_radius, pitch, wire_radius, mat)
+    O.engines = engines(gravity=(0, 0, -gravity), damping=damping)
+    return dict(nodes=nodes, cylinders=cyls, params=dict(segments=segments, coil_radius=coil_radius, pitch=pitch, wire_radius=wire_radius))
+
+
+def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=9.81):
+    """Square net of n x n nodes (border clamped) hit at its centre by a sphere moving down
+    at speed [m/s], starting just above the net."""
+    O.reset()
+    mat = steel(friction_deg=30.0)
+    grid, cyls = B.net(n, spacing, wire_radius, mat)
+    c = (n - 1) * spacing / 2.0
+    s = sphere((c, c, sphere_radius + wire_radius + 1e-4), sphere_radius, density=2500.0, young=5e9, velocity=(0, 0, -speed))
+    O.engines = engines(gravity=(0, 0, -gravity), damping=damping)
+    return dict(grid=grid, cylinders=cyls, sphere=s, params=dict(n=n, spacing=spacing, wire_radius=wire_radius, sphere_radius=sphere_radius, speed=speed))
+
+
+def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_radius=0.3, ring_bar_radius=0.005,
+                  ring_segments=36, ball_radius=0.08, drop_height=0.5, damping=0.0):
+    """The demo scene: a wire clamped at both ends sagging under its weight, and a steel ring
+    resting on it at mid-span, hit by a falling ball (drop_height [m] above the ring)."""
+    O.reset()
+    mat = steel(friction_deg=25.0)
+    wn, wc = B.chain([(-wire_length / 2, 0, 0), (wire_length / 2, 0, 0)], wire_radius, mat, segments=wire_segments,
+                     fixed=[0, wire_segments])
+    # ring standing vertically in the x-z plane, its lowest point just above the wire
+    rn, rc = B.ring((0, 0, ring_radius + wire_radius + ring_bar_radius + 1e-3), ring_radius, ring_bar_radius, mat,
+                    segments=ring_segments, axis=(0, 1, 0))
+    ball = sphere((0, 0, 2 * ring_radius + ring_bar_radius + ball_radius + drop_height), ball_radius, density=7850.0, young=50e9)
+    O.engines = engines(damping=damping)
+    return dict(wire_nodes=wn, wire_cylinders=wc, ring_nodes=rn, ring_cylinders=rc, ball=ball,
+                params=dict(wire_length=wire_length, wire_segments=wire_segments, wire_radius=wire_radius, ring_radius=ring_radius,
+                            ring_bar_radius=ring_bar_radius, ring_segments=ring_segments, ball_radius=ball_radius,
+                            drop_height=drop_height, damping=damping))

@@ -1,0 +1,39 @@
+"""pytest on the system interpreter (/usr/bin/python3) driving Debian's YADE in-process.
+
+O is one global scene per process: every test starts from O.reset() (fixture `scene`).
+Tests that need another thread count run yade-double in a subprocess (see run_yade).
+"""
+import os
+import subprocess
+import sys
+
+import pytest
+
+YADE_PY = "/usr/lib/x86_64-linux-gnu/yade-double/py"
+if YADE_PY not in sys.path:
+    sys.path.insert(0, YADE_PY)
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "py"))  # the checkout's package, not a stale install
+sys.path.insert(0, HERE)
+
+import yade  # noqa: E402  (starts YADE, loads the installed libyadeflex.so)
+from yade import O  # noqa: E402
+
+
+@pytest.fixture
+def scene():
+    O.reset()
+    O.trackEnergy = False
+    yield O
+    O.reset()
+
+
+def run_yade(script, threads=1, args=(), timeout=600):
+    """Run a script in yade-double with `threads` OpenMP threads; return its stdout."""
+    env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "py") + os.pathsep + HERE)
+    cmd = ["yade-double", "-n", "-j", str(threads), "-x", script, *map(str, args)]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
+    if res.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({res.returncode}):\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}")
+    return res.stdout

@@ -1,0 +1,125 @@
+"""Deformable cylinders as beams: analytic cantilever, bar, frequency; objectivity; ropes; rupture."""
+import math
+
+import pytest
+from yade import O
+from yade.minieigenHP import Vector3
+
+from yadeflex import scenes
+import yadeflex as yf
+from tol import assert_rel, circle_I, STEEL_E, STEEL_RHO, G
+
+
+def test_cantilever_tip_load_matches_PL3_over_3EI(scene):
+    L, r, P = 1.0, 0.01, 1.0  # small load: geometric nonlinearity ~ (delta/L)^2 ~ 1e-7
+    s = scenes.cantilever(segments=10, length=L, radius=r, load="tip", force=P)
+    scenes.settle([s["tip"]], rel_tol=1e-7)
+    w = -O.bodies[s["tip"]].state.pos[2]
+    assert_rel(w, P * L ** 3 / (3 * STEEL_E * circle_I(r)), 1e-3, "tip deflection, 10 segments")
+
+
+def test_cantilever_self_weight_matches_qL4_over_8EI(scene):
+    L, r = 1.0, 0.01
+    s = scenes.cantilever(segments=10, length=L, radius=r, load="self", gravity=G)
+    scenes.settle([s["tip"]], rel_tol=1e-7)
+    w = -O.bodies[s["tip"]].state.pos[2]
+    q = STEEL_RHO * math.pi * r ** 2 * G
+    # lumped loads omit only the tip moment q h^2/12 of the consistent load: error 1/(3 N^2)
+    assert_rel(w, q * L ** 4 / (8 * STEEL_E * circle_I(r)), 5e-3, "self-weight tip deflection, 10 segments")
+
+
+def test_axial_bar_stiffness_EA_over_L(scene):
+    L, r, P = 2.0, 0.004, 1000.0
+    s = scenes.cantilever(segments=5, length=L, radius=r, load="axial", force=P)
+    scenes.settle([s["tip"]], rel_tol=1e-7)
+    du = O.bodies[s["tip"]].state.pos[0] - L
+    assert_rel(du, P * L / (STEEL_E * math.pi * r ** 2), 1e-4, "bar elongation")
+    assert_rel(O.bodies[s["cylinders"][0]].shape.axialForce, P, 1e-4, "axial force")
+
+
+def test_first_bending_frequency(scene):
+    L, r = 1.0, 0.01
+    s = scenes.cantilever(segments=10, length=L, radius=r, load="tip", force=1.0, damping=0.0)
+    # static deflection under the tip load, then release: free vibration, mostly mode 1
+    O.engines[-1].damping = 0.8
+    scenes.settle([s["tip"]], rel_tol=1e-6)
+    O.engines[-1].damping = 0.0
+    O.forces.setPermF(s["tip"], Vector3(0, 0, 0))
+    tip = O.bodies[s["tip"]]
+    t, z = [], []
+    O.run(1, True)
+    t0 = O.time
+    while O.time < t0 + 0.5:
+        scenes.advance(50)  # ~90 samples per period
+        t.append(O.time)
+        z.append(tip.state.pos[2])
+    ups = [t[k - 1] + (t[k] - t[k - 1]) * (-z[k - 1]) / (z[k] - z[k - 1]) for k in range(1, len(z)) if z[k - 1] < 0 <= z[k]]
+    period = (ups[-1] - ups[0]) / (len(ups) - 1)
+    A, I = math.pi * r ** 2, circle_I(r)
+    omega1 = 1.875104 ** 2 * math.sqrt(STEEL_E * I / (STEEL_RHO * A * L ** 4))
+    assert len(ups) >= 4
+    assert_rel(2 * math.pi / period, omega1, 0.02, "first bending frequency")
+
+
+def test_finite_rigid_rotation_creates_no_force(scene):
+    # a bent, twisted structure: a ring and a helix, rotated by 1.1 rad as a whole
+    mat = yf.steel()
+    rn, rc = yf.ring((0, 0, 0), 0.2, 0.004, mat, segments=12)
+    hn, hc = yf.helix(30, 0.05, 0.02, 0.002, mat, center=(1, 0, 0), fixed=())
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-7
+    O.run(1, True)
+    scenes.rotate_rigidly(rn + hn, axis=(1, 2, 3), angle=1.1, center=(0.3, -0.2, 0.1))
+    O.run(1, True)
+    fmax = max(O.forces.f(i).norm() for i in rn + hn)
+    mmax = max(O.forces.t(i).norm() for i in rn + hn)
+    # a 1e-6 strain in these bars would give ~ EA*1e-6 = 10 N: the forces must be round-off only
+    assert fmax < 1e-6, f"max node force after rigid rotation {fmax} N"
+    assert mmax < 1e-8, f"max node moment after rigid rotation {mmax} N m"
+
+
+def test_rope_carries_no_compression(scene):
+    rope = yf.rope_6x7_8mm()
+    s = scenes.cantilever(segments=4, length=1.0, radius=0.004, load="axial", force=-500.0, material=rope)
+    scenes.advance(200)
+    assert all(O.bodies[c].shape.axialForce == 0.0 for c in s["cylinders"])
+    assert O.bodies[s["cylinders"][-1]].shape.strain < -1e-4  # the pushed segment did shorten
+
+
+def test_rope_axial_stiffness_and_rupture_force(scene):
+    rope = yf.rope_6x7_8mm()
+    s = scenes.cantilever(segments=4, length=1.0, radius=0.004, load="axial", force=10e3, material=rope)
+    scenes.settle([s["tip"]], rel_tol=1e-7)
+    du = O.bodies[s["tip"]].state.pos[0] - 1.0
+    assert_rel(10e3 * 1.0 / du, 96e9 * 24.32e-6, 0.01, "rope EA from datasheet")
+    # displacement-controlled pull at 1 cm/s (quasi-static): the bond breaks at 37.6 kN
+    O.forces.setPermF(s["tip"], Vector3(0, 0, 0))
+    tip = O.bodies[s["tip"]].state
+    tip.blockedDOFs = "xyzXYZ"
+    tip.vel = Vector3(0.01, 0, 0)
+    fmax, steps = 0.0, 0
+    while O.engines[3].nRuptured == 0 and steps < 200000:
+        fmax = max([fmax] + [O.bodies[c].shape.axialForce for c in s["cylinders"] if O.bodies[c] is not None])
+        O.step()
+        steps += 1
+    assert O.engines[3].nRuptured == 1
+    assert_rel(fmax, 37.6e3, 0.02, "rope breaking force")
+
+
+def test_rupture_removes_element_and_counts(scene):
+    mat = yf.steel(tensile_strength=400e6)
+    s = scenes.cantilever(segments=3, length=0.3, radius=0.002, load="axial", force=0.0, material=mat)
+    O.forces.setPermF(s["tip"], Vector3(1.2 * 400e6 * math.pi * 0.002 ** 2, 0, 0))
+    mass_before = sum(O.bodies[n].state.mass for n in s["nodes"])
+    O.trackEnergy = True
+    for _ in range(1000):
+        scenes.advance(20)
+        if O.engines[3].nRuptured:
+            break
+    broken = O.engines[3].rupturedIds
+    assert O.engines[3].nRuptured == 1 and len(broken) == 1
+    assert O.bodies[broken[0]] is None  # the element is gone, not a ghost
+    assert all(broken[0] not in O.bodies[n].shape.elements for n in s["nodes"])
+    assert len([i for i in O.interactions if broken[0] in (i.id1, i.id2)]) == 0
+    assert sum(O.bodies[n].state.mass for n in s["nodes"]) == pytest.approx(mass_before, rel=1e-15)
+    assert O.energy["flexRupture"] > 0
