@@ -1,0 +1,188 @@
+"""Contacts on deformable cylinders: one contact at shared nodes, continuous force, exact
+kinematics, balance, no NaN, detection following both nodes."""
+import math
+
+import pytest
+from yade import O
+from yade.minieigenHP import Vector3
+
+import yadeflex as yf
+from yadeflex import scenes
+from yadeflex.scenes import sphere
+from tol import assert_rel
+
+
+def _clamped_chain(points, r, mat):
+    nodes, cyls = yf.chain(points, r, mat)
+    yf.fix(nodes)
+    return nodes, cyls
+
+
+def _active(body):
+    return yf.contacts_on(body)
+
+
+def _prescribe(body, vel=(0, 0, 0), angvel=(0, 0, 0)):
+    s = O.bodies[body].state
+    s.blockedDOFs = "xyzXYZ"
+    s.vel = Vector3(*vel)
+    s.angVel = Vector3(*angvel)
+
+
+@pytest.mark.parametrize("friction_deg", [0.0, 30.0])
+def test_sphere_sliding_across_shared_node_one_contact_continuous_force(scene, friction_deg):
+    r, R, delta, v = 0.005, 0.02, 1e-4, 0.5
+    mat = yf.steel(friction_deg=friction_deg)
+    _clamped_chain([(-0.2, 0, 0), (0, 0, 0), (0.2, 0, 0)], r, mat)
+    s = sphere((-0.01, 0, R + r - delta), R, young=1e9, friction_deg=friction_deg)
+    _prescribe(s, vel=(v, 0, 0))
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    forces, counts = [], []
+    while O.bodies[s].state.pos[0] < 0.01:
+        O.step()
+        counts.append(len(_active(s)))
+        forces.append(Vector3(O.forces.f(s)))
+    assert set(counts) == {1}, "exactly one contact at every step, also at the shared node"
+    steady = forces[len(forces) // 4:]  # after the shear spring has reached its limit
+    scale = max(f.norm() for f in steady)
+    jump = max((steady[k] - steady[k - 1]).norm() for k in range(1, len(steady)))
+    assert jump < 0.01 * scale, f"force jump {jump / scale:.2e} of the force"
+    # crossed the node: both segments carried the contact
+    fn = steady[-1][2]
+    assert fn > 0
+    if friction_deg:
+        assert_rel(-steady[-1][0], math.tan(math.radians(friction_deg)) * fn, 1e-6, "Coulomb sliding force")
+
+
+@pytest.mark.parametrize("x_cross", [0.0, 0.1])
+def test_cylinder_crossing_chain_at_node_gets_same_force_as_midspan(scene, x_cross):
+    r, delta = 0.005, 2e-4
+    mat = yf.steel(friction_deg=0)
+    _clamped_chain([(-0.2, 0, 0), (0, 0, 0), (0.2, 0, 0)], r, mat)
+    bn, bc = _clamped_chain([(x_cross, -0.1, 2 * r - delta), (x_cross, 0.1, 2 * r - delta)], r, mat)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    contacts = _active(bc[0])
+    assert len(contacts) == 1
+    kn = contacts[0].phys.kn
+    fz = sum(O.forces.f(n)[2] for n in bn)
+    assert_rel(fz, kn * delta, 1e-9, f"contact force crossing at x={x_cross}")
+
+
+@pytest.mark.parametrize("L", [0.1, 1.0, 10.0])
+def test_rigid_rotation_with_sphere_riding_gives_zero_slip(scene, L):
+    r, R, delta = 0.01, 0.05, 1e-4
+    mat = yf.steel()
+    nodes, cyls = yf.chain([(0, 0, 0), (L, 0, 0)], r, mat)
+    s = sphere((0.3 * L, 0, r + R - delta), R)
+    w, c = Vector3(0.3, -0.2, 1.0), Vector3(0.1 * L, 0.2, -0.1)
+    for b in nodes + [s]:
+        st = O.bodies[b].state
+        st.vel = w.cross(st.pos - c)
+        st.angVel = w
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-9
+    O.step()
+    i = _active(s)[0]
+    assert i.geom.relVel.norm() < 1e-12 * w.norm() * L, f"slip velocity {i.geom.relVel.norm()} m/s under rigid rotation"
+
+
+def _two_cylinders(a0, a1, b0, b1, r=0.005):
+    mat = yf.steel(friction_deg=0)
+    an, ac = _clamped_chain([a0, a1], r, mat)
+    bn, bc = _clamped_chain([b0, b1], r, mat)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    return an, ac, bn, bc
+
+
+def test_parallel_cylinders_contact_mid_overlap(scene):
+    r, delta = 0.005, 1e-4
+    an, ac, bn, bc = _two_cylinders((0, 0, 0), (1, 0, 0), (0.5, 2 * r - delta, 0), (1.5, 2 * r - delta, 0), r)
+    (i,) = _active(ac[0])
+    assert i.geom.contactPoint[0] == pytest.approx(0.75, abs=1e-12)  # middle of the overlap [0.5, 1]
+    assert abs(abs(i.geom.normal[1]) - 1) < 1e-12
+    assert_rel(sum(O.forces.f(n)[1] for n in bn), i.phys.kn * delta, 1e-9, "parallel contact force")
+
+
+def test_intersecting_axes_give_finite_normal_and_force(scene):
+    r = 0.005
+    an, ac, bn, bc = _two_cylinders((-0.1, 0, 0), (0.1, 0, 0), (0, -0.1, 0), (0, 0.1, 0), r)
+    (i,) = _active(ac[0])
+    n = i.geom.normal
+    assert all(math.isfinite(x) for x in n) and abs(abs(n[2]) - 1) < 1e-12  # perpendicular to both axes
+    f = sum((O.forces.f(k) for k in bn), Vector3(0, 0, 0))
+    assert all(math.isfinite(x) for x in f)
+    assert_rel(f.norm(), i.phys.kn * 2 * r, 1e-9, "full overlap force")
+
+
+def test_sphere_centre_on_axis_is_finite(scene):
+    mat = yf.steel()
+    _clamped_chain([(0, 0, 0), (1, 0, 0)], 0.01, mat)
+    s = sphere((0.5, 0, 0), 0.02)
+    _prescribe(s)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    (i,) = _active(s)
+    assert all(math.isfinite(x) for x in i.geom.normal) and abs(i.geom.normal[0]) < 1e-12
+    assert all(math.isfinite(x) for x in O.forces.f(s))
+
+
+def test_swinging_cylinder_cannot_pass_through_sphere(scene):
+    L, r, R = 1.0, 0.01, 0.03
+    mat = yf.steel()
+    nodes, cyls = yf.chain([(0, 0, 0), (L, 0, 0)], r, mat)
+    yf.fix([nodes[0]])
+    wz = 20.0  # rad/s about the fixed node: the far end moves at 20 m/s
+    O.bodies[nodes[1]].state.vel = Vector3(0, wz * L, 0)
+    O.bodies[nodes[1]].state.angVel = Vector3(0, 0, wz)
+    th = 0.3
+    s = sphere((0.9 * L * math.cos(th), 0.9 * L * math.sin(th), 0), R)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    hit = False
+    while O.time < 0.05:  # the tip reaches the sphere after ~0.015 s
+        O.step()
+        hit = hit or bool(_active(s))
+    assert hit, "the sphere was never touched"
+    sv = O.bodies[s].state.vel
+    assert sv.norm() > 1.0, "the sphere was not pushed"
+    assert sv.dot(Vector3(-math.sin(th), math.cos(th), 0)) > 0  # pushed along the swing
+
+
+def test_force_and_moment_balance_whole_scene(scene):
+    """Newton's third law: bonds and contacts together put zero net force and moment."""
+    import random
+    rnd = random.Random(3)
+    mat = yf.steel(friction_deg=30)
+    grid, cyls = yf.net(4, 0.05, 0.003, mat, fix_border=False)
+    bn, bc = yf.chain([(0.02, -0.05, 0.0055), (0.08, 0.2, 0.0058)], 0.003, mat)
+    s = sphere((0.075, 0.075, 0.0285), 0.026, young=1e9)
+    ids = [n for row in grid for n in row] + bn + [s]
+    for i in ids:
+        O.bodies[i].state.vel = Vector3(rnd.uniform(-1, 1), rnd.uniform(-1, 1), rnd.uniform(-1, 1)) * 0.05
+        O.bodies[i].state.angVel = Vector3(rnd.uniform(-1, 1), rnd.uniform(-1, 1), rnd.uniform(-1, 1))
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    n_contacts = 0
+    for _ in range(50):
+        x = {i: Vector3(O.bodies[i].state.pos) for i in ids}  # forces are computed at these positions
+        O.step()
+        F = sum((O.forces.f(i) for i in ids), Vector3(0, 0, 0))
+        M = sum((x[i].cross(O.forces.f(i)) + O.forces.t(i) for i in ids), Vector3(0, 0, 0))
+        scale = max(O.forces.f(i).norm() for i in ids)
+        assert F.norm() <= 1e-12 * scale and M.norm() <= 1e-12 * scale, (F, M, scale)
+        n_contacts = max(n_contacts, len([i for i in O.interactions if i.isReal]))
+    assert n_contacts >= 2  # the sphere and the crossing cylinder touched the net
+
+
+def test_bonded_neighbours_never_become_contacts(scene):
+    # zig-zag with 60 degree bends: neighbouring capsules overlap near every node
+    mat = yf.steel()
+    pts = [(0.02 * k, 0.01 * (k % 2), 0) for k in range(12)]
+    nodes, cyls = yf.chain(pts, 0.004, mat)
+    O.engines = yf.engines(gravity=(0, 0, -9.81))
+    for _ in range(100):
+        O.step()
+    assert len([i for i in O.interactions if i.isReal]) == 0
