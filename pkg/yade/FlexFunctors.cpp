@@ -17,12 +17,14 @@ namespace {
 		g.handover           = false;
 		if (!own) return; // lastActiveIter untouched: neighbours may read this interaction now
 		if (!wasActive) {
-			Vector3r sh;
-			if ((nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh))
-			    || (nb2 && flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh))) {
-				g.handover      = true;
-				g.handoverShear = sh;
-			}
+			// a contact (re)starting: it takes over the shear of the neighbour that carried it
+			// last step, or starts from zero (separation ends the shear history; never reuse a
+			// stale spring, which would bring back energy that was no longer booked)
+			Vector3r sh = Vector3r::Zero();
+			if (!(nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh)))
+				if (nb2) flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh);
+			g.handover      = true;
+			g.handoverShear = sh;
 		}
 		g.lastActiveIter = scene->iter;
 	}
@@ -139,11 +141,18 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 {
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*ig);
 	FrictPhys&       p = static_cast<FrictPhys&>(*ip);
+	const bool track = scene->trackEnergy && p.ks > 0;
 	if (!g.active) {
-		// writes nothing: a neighbour may take over this contact's shear force this step.
-		// Kept one step after its last active step, then erased.
+		// Writes nothing to the interaction: a neighbour may take over this contact's shear
+		// force this step. Kept one step after its last active step, then erased.
+		// Energy: the shear spring's stored energy leaves this contact now. It is booked as
+		// dissipated (separation: the Coulomb cone closes as the normal force vanishes); a
+		// neighbour taking the shear over books the same amount back (below), so a hand-over
+		// nets to zero.
+		if (g.lastActiveIter == scene->iter - 1 && track) scene->energy->add(0.5 * p.shearForce.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 		return g.lastActiveIter >= scene->iter - 1;
 	}
+	if (g.handover && track) scene->energy->add(-0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 	const Vector3r&              n     = g.normal;
 	const Vector3r               shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r               dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;

@@ -145,14 +145,23 @@ TEST(FrictionalStep, Slip)
 		EXPECT_TRUE(r.sliding);
 		EXPECT_TRUE(close(r.shearForce.norm(), p.tanPhi * Fn, 1e-14));                    // on the cone
 		EXPECT_TRUE(close(r.shearForce, Vec3(trial.normalized() * maxFs), 1e-14));         // along the trial
-		EXPECT_TRUE(close(r.frictionWork, (trial.norm() - maxFs) * maxFs / p.ks, 1e-13));  // slip x force
+		// D = (Fs* - Fs_new).(Fs_old + Fs_new)/(2 ks), the trapezoid work minus the stored change
+		const double D = 0.5 * (trial - r.shearForce).dot(old + r.shearForce) / p.ks;
+		EXPECT_TRUE(close(r.frictionWork, D, 1e-13));
+		const double W = -0.5 * (old + r.shearForce).dot(dus), dE = 0.5 * (r.shearForce.squaredNorm() - old.squaredNorm()) / p.ks;
+		EXPECT_TRUE(close(r.frictionWork, W - dE, 1e-12, 1e-18));
 		EXPECT_TRUE(close(r.elasticEnergy, 0.5 * Fn * Fn / p.kn + 0.5 * maxFs * maxFs / p.ks, 1e-14));
 	}
-	// one explicit case: trial 80 N along -x
+	// one explicit case: from 0, trial 80 N along -x, capped at 50 N: D = 30 * 50 / (2 ks)
 	const FrictionalResult r = frictionalStep(p, overlap, n, Vec3::Zero(), Vec3(80.0 / 5e4, 0, 0));
 	EXPECT_TRUE(r.sliding);
 	EXPECT_TRUE(close(r.shearForce, Vec3(-50, 0, 0), 1e-15));
-	EXPECT_TRUE(close(r.frictionWork, 30.0 * 50.0 / 5e4, 1e-15));
+	EXPECT_TRUE(close(r.frictionWork, 0.5 * 30.0 * 50.0 / 5e4, 1e-15));
+	// the cone shrinks (normal force halves) with no tangential motion: the released elastic
+	// energy is dissipated, (50^2 - 25^2)/(2 ks)
+	const FrictionalResult u = frictionalStep(p, 0.5e-3, n, Vec3(-50, 0, 0), Vec3::Zero());
+	EXPECT_TRUE(close(u.shearForce, Vec3(-25, 0, 0), 1e-15));
+	EXPECT_TRUE(close(u.frictionWork, 0.5 * (2500.0 - 625.0) / 5e4, 1e-15));
 	// frictionless: no shear at all, no dissipation
 	const FrictionalResult z = frictionalStep({ 1e5, 5e4, 0 }, overlap, n, Vec3::Zero(), Vec3(1e-4, 0, 0));
 	EXPECT_EQ(z.shearForce, Vec3::Zero());

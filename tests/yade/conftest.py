@@ -9,6 +9,9 @@ import sys
 
 import pytest
 
+# In-process tests run single-threaded, hence bitwise reproducible (YADE's InteractionLoop
+# with 2 threads is reproducible only to round-off); thread counts are tested in subprocesses.
+os.environ["OMP_NUM_THREADS"] = "1"
 YADE_PY = "/usr/lib/x86_64-linux-gnu/yade-double/py"
 if YADE_PY not in sys.path:
     sys.path.insert(0, YADE_PY)
@@ -19,6 +22,8 @@ sys.path.insert(0, HERE)
 
 import yade  # noqa: E402  (starts YADE, loads the installed libyadeflex.so)
 from yade import O  # noqa: E402
+
+assert O.numThreads == 1, "in-process YADE tests must run with one OpenMP thread"
 
 
 @pytest.fixture
@@ -31,7 +36,7 @@ def scene():
 
 def run_yade(script, threads=1, args=(), timeout=600):
     """Run a script in yade-double with `threads` OpenMP threads; return its stdout."""
-    env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "py") + os.pathsep + HERE)
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), PYTHONPATH=os.path.join(REPO, "py") + os.pathsep + HERE)
     cmd = ["yade-double", "-n", "-j", str(threads), "-x", script, *map(str, args)]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
     if res.returncode != 0:

@@ -1,0 +1,71 @@
+"""Bad input raises an exception that names the problem; nothing half-built stays behind."""
+import math
+
+import pytest
+from yade import O
+from yade.wrapper import Body, FlexCylinder, FrictMat
+
+import yadeflex as yf
+from yadeflex.scenes import sphere
+
+
+@pytest.mark.parametrize("radius", [0, -1e-3, math.nan, math.inf])
+def test_bad_radius(scene, radius):
+    n0, n1 = yf.node((0, 0, 0), 0.01), yf.node((1, 0, 0), 0.01)
+    with pytest.raises(ValueError, match="radius"):
+        yf.cylinder(n0, n1, radius, yf.steel())
+    with pytest.raises(ValueError, match="radius"):
+        yf.node((0, 0, 0), radius)
+
+
+def test_nan_position(scene):
+    with pytest.raises(ValueError, match="finite"):
+        yf.node((0, math.nan, 0), 0.01)
+
+
+def test_coincident_nodes(scene):
+    mat = yf.steel()
+    n0, n1 = yf.node((0, 0, 0), 0.01), yf.node((0, 0, 0), 0.01)
+    nb = len(O.bodies)
+    with pytest.raises(ValueError, match="coincide"):
+        yf.cylinder(n0, n1, 0.01, mat)
+    assert len([b for b in O.bodies if b is not None]) == nb  # nothing left behind
+    with pytest.raises(ValueError, match="same node"):
+        yf.cylinder(n0, n0, 0.01, mat)
+    with pytest.raises(ValueError, match="coincide"):
+        yf.chain([(0, 0, 0), (0, 0, 0)], 0.01, mat)
+
+
+def test_end_not_a_flexnode(scene):
+    s = sphere((0, 0, 0), 0.1)
+    n = yf.node((1, 0, 0), 0.01)
+    with pytest.raises(ValueError, match="not a FlexNode"):
+        yf.cylinder(s, n, 0.01, yf.steel())
+    # the C++ check, without the Python builder in front
+    b = Body()
+    b.shape = FlexCylinder(node1=s, node2=n, radius=0.01)
+    b.material = yf.steel()
+    i = O.bodies.append(b)
+    with pytest.raises(ValueError, match="not a FlexNode"):
+        b.shape.attach(i)
+
+
+def test_bad_materials(scene):
+    with pytest.raises(ValueError, match="density"):
+        yf.steel(density=0)
+    with pytest.raises(ValueError, match="young"):
+        yf.flex_material(young=-1, density=1000)
+    n0, n1 = yf.node((0, 0, 0), 0.01), yf.node((1, 0, 0), 0.01)
+    with pytest.raises(ValueError, match="unknown material"):
+        yf.cylinder(n0, n1, 0.01, "no-such-material")
+    m = FrictMat(density=1000, young=1e9)
+    O.materials.append(m)
+    m.label = "plain"
+    with pytest.raises(ValueError, match="not a FlexMat"):
+        yf.cylinder(n0, n1, 0.01, "plain")
+
+
+def test_massless_free_node_rejected_before_running(scene):
+    yf.node((0, 0, 0), 0.01)
+    with pytest.raises(ValueError, match="no mass"):
+        yf.engines()
