@@ -16,7 +16,7 @@ namespace flex {
 
 BeamSection BeamSection::circular(double young, double shearModulus, double radius, double bendingFactor)
 {
-	const double A = M_PI * radius * radius, I = M_PI * std::pow(radius, 4) / 4.0;
+	const double r2 = radius * radius, A = M_PI * r2, I = M_PI * r2 * r2 / 4.0;
 	return { young * A, bendingFactor * young * I, bendingFactor * shearModulus * 2.0 * I };
 }
 
@@ -58,13 +58,33 @@ BeamRest makeBeamRest(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat
 }
 
 namespace {
-	// rotation vector taking unit vector a onto unit vector b (perpendicular to both)
-	Vec3 rotationBetween(const Vec3& a, const Vec3& b)
+	// rotation vector taking unit vector a onto unit vector b (perpendicular to both):
+	// (angle / sin angle) (a x b). Bending angles of an element are usually small: below
+	// sin^2 = 1e-4 the series angle/sin = 1 + s^2/6 + 3 s^4/40 is exact to 5e-14 (next term
+	// 5 s^6/112) and needs neither atan2 nor sqrt (the hot spots of the element loop).
+	inline Vec3 rotationBetween(const Vec3& a, const Vec3& b)
 	{
-		const Vec3   c = a.cross(b);
-		const double s = c.norm();
-		if (s < 1e-300) return Vec3::Zero();
-		return (std::atan2(s, a.dot(b)) / s) * c;
+		const Vec3   c  = a.cross(b);
+		const double s2 = c.squaredNorm(), cs = a.dot(b);
+		if (s2 < 1e-4 && cs > 0) return (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0))) * c;
+		const double s = std::sqrt(s2);
+		if (s < 1e-300) return Vec3::Zero(); // anti-parallel: undefined axis; cannot occur for a bonded element
+		return (std::atan2(s, cs) / s) * c;
+	}
+	// 2 atan(x / w) for w > 0; series below |x/w| = 1e-2 (error (x/w)^9/9 < 1e-18)
+	inline double twoAtan(double x, double w)
+	{
+		if (w > 0 && std::abs(x) < 1e-2 * w) {
+			const double t = x / w, t2 = t * t;
+			return 2.0 * t * (1.0 - t2 * (1.0 / 3.0 - t2 * (1.0 / 5.0 - t2 / 7.0)));
+		}
+		return 2.0 * std::atan2(x, w);
+	}
+	// first column of the rotation matrix of unit quaternion q, i.e. q * (1, 0, 0)
+	inline Vec3 xAxis(const Quat& q)
+	{
+		const double x = q.x(), y = q.y(), z = q.z(), w = q.w();
+		return Vec3(1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y));
 	}
 }
 
@@ -75,11 +95,16 @@ BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, co
 	k.L              = d.norm();
 	k.e              = d / k.L;
 	const Quat Ri = oi * rest.Qi, Rj = oj * rest.Qj;
-	k.thetaI      = rotationBetween(k.e, Ri * Vec3::UnitX());
-	k.thetaJ      = rotationBetween(k.e, Rj * Vec3::UnitX());
-	Quat D        = Ri.conjugate() * Rj;
-	if (D.w() < 0) D.coeffs() *= -1; // shortest representation
-	k.twist = 2.0 * std::atan2(D.x(), D.w());
+	k.thetaI      = rotationBetween(k.e, xAxis(Ri));
+	k.thetaJ      = rotationBetween(k.e, xAxis(Rj));
+	// only the w and x components of D = conj(Ri) Rj are needed
+	double Dw = Ri.w() * Rj.w() + Ri.x() * Rj.x() + Ri.y() * Rj.y() + Ri.z() * Rj.z();
+	double Dx = Ri.w() * Rj.x() - Ri.x() * Rj.w() - Ri.y() * Rj.z() + Ri.z() * Rj.y();
+	if (Dw < 0) { // shortest representation
+		Dw = -Dw;
+		Dx = -Dx;
+	}
+	k.twist = twoAtan(Dx, Dw);
 	return k;
 }
 
