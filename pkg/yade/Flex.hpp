@@ -14,6 +14,8 @@
 //  - Law2_FlexContactGeom_FrictPhys_CundallStrack   frictional contact; forces to nodes
 //  - FlexElementEngine   internal forces of all bonds; rupture (element removed, counted)
 //  - FlexTimeStepper     critical time step from bonds and contacts
+//  - FlexNewtonIntegrator NewtonIntegrator that skips element bodies (no DOF) and tells the
+//                        collider when an element moved, from both of its nodes
 //
 // Ownership (one contact where elements meet): a contact with element E is valid only if no
 // element sharing a node with E overlaps the same probe more (ties: lower body id wins).
@@ -74,6 +76,8 @@ public:
 		((int, node2, -1, , "Id of the second node"))
 		((Real, radius, NaN, , "Radius [m]"))
 		((bool, attached, false, Attr::readonly, "Bound to its nodes (rest state computed)"))
+		((Vector3r, boundRef1, Vector3r::Zero(), (Attr::hidden | Attr::noSave), "node1 position when the bound was last built [m]"))
+		((Vector3r, boundRef2, Vector3r::Zero(), (Attr::hidden | Attr::noSave), "node2 position when the bound was last built [m]"))
 		((Real, L0, NaN, Attr::readonly, "Rest length [m]"))
 		((Quaternionr, Q1, Quaternionr::Identity(), Attr::readonly, "Element frame in node1's frame at rest"))
 		((Quaternionr, Q2, Quaternionr::Identity(), Attr::readonly, "Element frame in node2's frame at rest"))
@@ -213,5 +217,24 @@ public:
 	// clang-format on
 };
 REGISTER_SERIALIZABLE(FlexTimeStepper);
+
+class FlexNewtonIntegrator : public NewtonIntegrator {
+	std::vector<Real>       thrMax;
+	std::vector<Body::id_t> movers, elements; // bodies with DOFs / element bodies (cached)
+	size_t                  cachedBodyCount = 0;
+	bool              simple          = false; // no clump, no aspherical body: the fast path applies
+	void              refresh();
+	void              flagElements(); // collider trigger from element nodes (both paths)
+
+public:
+	void action() override;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
+		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator; scenes with periodic cells, clumps, aspherical bodies, masks or density scaling use NewtonIntegrator's own loop.",
+		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
+	);
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(FlexNewtonIntegrator);
 
 } // namespace yade

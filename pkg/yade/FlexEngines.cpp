@@ -12,7 +12,7 @@
 
 namespace yade {
 
-YADE_PLUGIN((FlexElementEngine)(FlexTimeStepper));
+YADE_PLUGIN((FlexElementEngine)(FlexTimeStepper)(FlexNewtonIntegrator));
 
 void FlexElementEngine::refresh()
 {
@@ -190,6 +190,127 @@ void FlexTimeStepper::action()
 	if (scene->iter % interval != 0 && dtCritical > 0) return;
 	dtCritical = critical();
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;
+}
+
+void FlexNewtonIntegrator::refresh()
+{
+	simple = true;
+	movers.clear();
+	elements.clear();
+	for (const auto& b : *scene->bodies) {
+		if (!b) continue;
+		if (b->isClump() || b->isClumpMember() || (exactAsphericalRot && b->isAspherical())) simple = false;
+		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) elements.push_back(b->id);
+		else movers.push_back(b->id);
+	}
+	cachedBodyCount = scene->bodies->size();
+}
+
+// The collider re-runs when some bounded body left the sweep of its bound; NewtonIntegrator
+// reports that through maxVelocitySq (2: left, 0.5: inside). An element's bound comes from its
+// nodes (Bo1_FlexCylinder_Aabb), so judge it by the nodes' motion since that bound was built.
+void FlexNewtonIntegrator::flagElements()
+{
+	Real flag = 0;
+	for (Body::id_t id : elements) {
+		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		if (!b || !b->bound) continue;
+		const FlexCylinder* c = static_cast<const FlexCylinder*>(b->shape.get());
+		const State *s1 = flexa::stateOf(scene, c->node1), *s2 = flexa::stateOf(scene, c->node2);
+		if (!s1 || !s2) continue;
+		const Real d = std::max((s1->pos - c->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - c->boundRef2).cwiseAbs().maxCoeff());
+		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+		if (flag == 2) break;
+	}
+	maxVelocitySq = std::max(maxVelocitySq, flag);
+}
+
+void FlexNewtonIntegrator::action()
+{
+	if (scene->bodies->size() != cachedBodyCount) refresh();
+	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
+	if (!usedFastPath) {
+		NewtonIntegrator::action();
+		flagElements();
+		return;
+	}
+	scene->forces.sync();
+	const Real dt    = scene->dt;
+	const bool track = scene->trackEnergy;
+#ifdef YADE_OPENMP
+	const int nThr = omp_get_max_threads();
+#else
+	const int nThr = 1;
+#endif
+	thrMax.assign(nThr, 0);
+	auto&      bodies = *scene->bodies;
+	const long n      = (long)movers.size();
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+	for (long k = 0; k < n; ++k) {
+		const Body::id_t        id = movers[k];
+		const shared_ptr<Body>& b  = bodies[id];
+		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
+		State*         st = b->state.get();
+		const Vector3r f  = scene->forces.getForce(id);
+		const Vector3r m  = scene->forces.getTorque(id);
+		if (track) {
+			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
+			// included), kinetic energy before the update, work of gravity -m g.v dt
+			if (damping != 0 && st->isDamped) {
+				scene->energy->add(st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
+				scene->energy->add(st->angVel.cwiseAbs().dot(m.cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
+			}
+			const Real Et = 0.5 * st->mass * st->vel.squaredNorm(), Er = 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
+			if (!kinSplit) scene->energy->add(Et + Er, "kinetic", kinEnergyIx, true);
+			else {
+				scene->energy->add(Et, "kinTrans", kinEnergyTransIx, true);
+				scene->energy->add(Er, "kinRot", kinEnergyRotIx, true);
+			}
+			scene->energy->add(-gravity.dot(st->vel) * st->mass * dt, "gravWork", fieldWorkIx, false);
+		}
+		const unsigned blocked = st->blockedDOFs;
+		if (blocked != State::DOF_ALL) {
+			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
+			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
+			Vector3r a = Vector3r::Zero(), al = Vector3r::Zero();
+			for (int i = 0; i < 3; ++i) {
+				if (!(blocked & State::axisDOF(i, false))) a[i] = f[i] / st->mass + (dampGravity ? gravity[i] : 0);
+				if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
+			}
+			if (st->isDamped && damping != 0)
+				for (int i = 0; i < 3; ++i) {
+					a[i] *= 1 - damping * math::sign(a[i] * (st->vel[i] + 0.5 * dt * a[i]));
+					al[i] *= 1 - damping * math::sign(al[i] * (st->angVel[i] + 0.5 * dt * al[i]));
+				}
+			if (!dampGravity)
+				for (int i = 0; i < 3; ++i)
+					if (!(blocked & State::axisDOF(i, false))) a[i] += gravity[i];
+			st->vel += dt * a;
+			st->angVel += dt * al;
+		}
+		st->pos += st->vel * dt;
+		const Real w2 = st->angVel.squaredNorm();
+		if (w2 != 0) {
+			const Real w = sqrt(w2);
+			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
+		}
+		st->ori.normalize();
+		if (b->bound) { // collider trigger, as NewtonIntegrator
+			const Real d = (st->pos - b->bound->refPos).cwiseAbs().maxCoeff();
+#ifdef YADE_OPENMP
+			Real& mx = thrMax[omp_get_thread_num()];
+#else
+			Real& mx = thrMax[0];
+#endif
+			mx = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+		}
+	}
+	maxVelocitySq = 0;
+	for (Real v : thrMax)
+		maxVelocitySq = std::max(maxVelocitySq, v);
+	flagElements();
 }
 
 } // namespace yade

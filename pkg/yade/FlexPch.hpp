@@ -12,3 +12,4 @@
 #include <pkg/common/Sphere.hpp>
 #include <pkg/dem/DemXDofGeom.hpp>
 #include <pkg/dem/FrictPhys.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>

@@ -68,7 +68,7 @@ void FlexCylinder::attach(int selfId)
 void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, const Se3r&, const Body*)
 {
 	if (scene->isPeriodic) throw std::runtime_error("Bo1_FlexCylinder_Aabb: periodic scenes are not supported by yade-flex yet.");
-	const FlexCylinder& c  = static_cast<const FlexCylinder&>(*sh);
+	FlexCylinder&       c  = static_cast<FlexCylinder&>(*sh);
 	const State*        s1 = flexa::stateOf(scene, c.node1);
 	const State*        s2 = flexa::stateOf(scene, c.node2);
 	if (!s1 || !s2) return; // a node was erased: no bound, no new contact
@@ -77,6 +77,8 @@ void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& b
 	const Vector3r r    = Vector3r::Constant(c.radius);
 	aabb->min           = s1->pos.cwiseMin(s2->pos) - r;
 	aabb->max           = s1->pos.cwiseMax(s2->pos) + r;
+	c.boundRef1         = s1->pos; // FlexNewtonIntegrator measures the nodes' motion from here
+	c.boundRef2         = s2->pos;
 }
 
 } // namespace yade

@@ -7,7 +7,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop,
                           Ig2_Sphere_Sphere_ScGeom, Ig2_Facet_Sphere_ScGeom, Ig2_Box_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom,
                           Ig2_Sphere_FlexCylinder_FlexContactGeom, Ig2_FlexCylinder_FlexCylinder_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
-                          Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper,
+                          Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator,
                           FlexCylinder, FlexNode, Sphere)
 
 from .builders import check_finite
@@ -55,7 +55,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.8, timestep_in
             label="interactionLoop"),
         FlexElementEngine(label="flexElements"),
         FlexTimeStepper(safety=timestep_safety, interval=timestep_interval, label="flexDt"),
-        NewtonIntegrator(gravity=g, damping=damping, label="newton"),
+        FlexNewtonIntegrator(gravity=g, damping=damping, label="newton"),
     ]
 
 

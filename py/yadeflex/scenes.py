@@ -102,16 +102,21 @@ def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, g
     return dict(nodes=nodes, cylinders=cyls, params=dict(segments=segments, coil_radius=coil_radius, pitch=pitch, wire_radius=wire_radius))
 
 
-def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=9.81):
+def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=9.81,
+               sphere_young=5e9, sphere_density=2500.0, friction_deg=30.0, gap=1e-4):
     """Square net of n x n nodes (border clamped) hit at its centre by a sphere moving down
-    at speed [m/s], starting just above the net."""
+    at speed [m/s], starting gap [m] above the wires; sphere_young [Pa], sphere_density
+    [kg/m3], friction_deg [deg] for wires and sphere."""
     O.reset()
-    mat = steel(friction_deg=30.0)
+    mat = steel(friction_deg=friction_deg)
     grid, cyls = B.net(n, spacing, wire_radius, mat)
     c = (n - 1) * spacing / 2.0
-    s = sphere((c, c, sphere_radius + wire_radius + 1e-4), sphere_radius, density=2500.0, young=5e9, velocity=(0, 0, -speed))
+    s = sphere((c, c, sphere_radius + wire_radius + gap), sphere_radius, density=sphere_density, young=sphere_young,
+               friction_deg=friction_deg, velocity=(0, 0, -speed))
     O.engines = engines(gravity=(0, 0, -gravity), damping=damping)
-    return dict(grid=grid, cylinders=cyls, sphere=s, params=dict(n=n, spacing=spacing, wire_radius=wire_radius, sphere_radius=sphere_radius, speed=speed))
+    return dict(grid=grid, cylinders=cyls, sphere=s, params=dict(n=n, spacing=spacing, wire_radius=wire_radius, sphere_radius=sphere_radius,
+                                                                speed=speed, sphere_young=sphere_young, sphere_density=sphere_density,
+                                                                friction_deg=friction_deg, gap=gap))
 
 
 def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_radius=0.3, ring_bar_radius=0.005,
