@@ -17,11 +17,13 @@
 //  - FlexNewtonIntegrator NewtonIntegrator that skips element bodies (no DOF) and tells the
 //                        collider when an element moved, from both of its nodes
 //
-// Ownership (one contact where elements meet): a contact with element E is valid only if no
-// element sharing a node with E overlaps the same probe more (ties: lower body id wins).
-// On a straight chain this splits space at the plane through the shared node; where two
-// segments clamp to the same node the distances are bit-identical and the tie rule picks
-// one. When ownership moves from A to its neighbour B, B takes over A's shear force; A stays
+// Ownership (one contact where elements meet): a contact with element E is dropped if an
+// element sharing a node with E has the SAME contact with a larger overlap (ties: lower body
+// id wins). Same contact: one of the two closest points is the shared node (the cap region),
+// or the two normals are within 15 degrees (concave side of a nearly straight chain).
+// Distinct contacts on neighbours (a sphere on a net cell touching its four wires) all count.
+// Where two segments clamp to the same node the distances are bit-identical and the tie rule
+// picks one. When ownership moves from A to its neighbour B, B takes over A's shear force; A stays
 // one more step, inactive, so B reads stable data (deterministic, no data race).
 #pragma once
 #include "FlexPch.hpp"
@@ -187,6 +189,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexElementEngine, GlobalEngine,
 		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp). A bond that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic' and 'flexRupture' in O.energy.",
 		((int, nRuptured, 0, , "Number of bonds ruptured so far [-]"))
+		((int, parallelMin, 2000, , "Run the element loop on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (measured on 2 cores: a 200-element helix takes 2x longer with -j2) [-]"))
 		((vector<int>, rupturedIds, , Attr::readonly, "Ids of ruptured elements, in order"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, plastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
@@ -197,6 +200,8 @@ public:
 REGISTER_SERIALIZABLE(FlexElementEngine);
 
 class FlexTimeStepper : public GlobalEngine {
+	size_t lastInteractionCount = 0;
+
 public:
 	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
 	Real omega2Bonds() const;
@@ -205,7 +210,7 @@ public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
-		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational. Runs every :yref:`FlexTimeStepper.interval` steps.",
+		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the number of interactions changes.",
 		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
 		((int, interval, 50, , "Recompute every this many steps [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]")),
@@ -232,6 +237,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
 		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator; scenes with periodic cells, clumps, aspherical bodies, masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
+		((int, parallelMin, 4000, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))
 	);
 	// clang-format on
 };

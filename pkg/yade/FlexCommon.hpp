@@ -56,21 +56,40 @@ namespace flexa {
 		const flex::PointSegment ps = flex::closestPointOnSegment(P, s1->pos, s2->pos);
 		return R + c.radius - (P - ps.point).norm();
 	}
-	/// Ownership test of element `self` (body id selfId) for a probe (P, R) with overlap
-	/// `own`: false if an element sharing a node overlaps the probe more (ties: lower id).
-	/// Elements that self beats are appended to `beaten` (at most 8 kept).
-	inline bool owns(const Scene* scene, const FlexCylinder& self, Body::id_t selfId, const Vector3r& P, Real R, Real own, Body::id_t* beaten, int& nBeaten)
+	/// Two contacts of one probe on elements sharing a node are the SAME contact when one of
+	/// their closest points is that node (the cap region of a chain), or when their normals are
+	/// within 15 degrees (the concave side of a nearly straight chain: the contact patches
+	/// merge). Otherwise they are distinct contacts and both count: a sphere resting on a net
+	/// cell touches its four wires, a sphere in a sharp kink touches both legs.
+	constexpr Real kMergeCos = 0.96592582628906831; // cos(15 deg)
+
+	/// Ownership test of element `self` (body id selfId) for a probe (P, R) whose closest point
+	/// on self is at axis parameter selfU, with overlap `own`: false if an element sharing a
+	/// node has the same contact (see above) with a larger overlap (ties: lower id wins).
+	/// Neighbours that self beats are appended to `beaten` (at most 8 kept).
+	inline bool owns(const Scene* scene, const FlexCylinder& self, Body::id_t selfId, const Vector3r& P, Real R, Real own, Real selfU, const Vector3r& selfPoint,
+	                 Body::id_t* beaten, int& nBeaten)
 	{
-		nBeaten = 0;
+		nBeaten              = 0;
+		const Vector3r nSelf = (P - selfPoint).normalized();
 		for (int end = 0; end < 2; ++end) {
-			const shared_ptr<Body>& nb = Body::byId(end ? self.node2 : self.node1, const_cast<Scene*>(scene));
+			const int               shared = end ? self.node2 : self.node1;
+			const bool              selfAtNode = end ? (selfU >= 1) : (selfU <= 0);
+			const shared_ptr<Body>& nb     = Body::byId(shared, const_cast<Scene*>(scene));
 			if (!nb) continue;
 			const FlexNode* node = static_cast<const FlexNode*>(nb->shape.get());
 			for (int other : node->elements) {
 				if (other == selfId) continue;
 				const FlexCylinder* oc = cylinderOf(scene, other);
 				if (!oc) continue;
-				const Real d = probeOverlap(scene, *oc, P, R);
+				const State *s1 = stateOf(scene, oc->node1), *s2 = stateOf(scene, oc->node2);
+				if (!s1 || !s2) continue;
+				const flex::PointSegment ps = flex::closestPointOnSegment(P, s1->pos, s2->pos);
+				const Real               d  = R + oc->radius - (P - ps.point).norm();
+				if (d <= 0) continue;
+				const bool otherAtNode = (oc->node1 == shared) ? (ps.u <= 0) : (ps.u >= 1);
+				const bool same        = selfAtNode || otherAtNode || nSelf.dot((P - ps.point).normalized()) > kMergeCos;
+				if (!same) continue;
 				if (d > own || (d == own && other < selfId)) return false;
 				if (nBeaten < 8) beaten[nBeaten++] = other;
 			}

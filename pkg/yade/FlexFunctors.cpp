@@ -48,7 +48,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	if (isNew && overlap <= 0 && !force) return false;
 	Body::id_t beaten[8];
 	int        nb  = 0;
-	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, flexa::probeOverlap(scene, cyl, P, R), beaten, nb);
+	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, flexa::probeOverlap(scene, cyl, P, R), ps.u, ps.point, beaten, nb);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -96,8 +96,9 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	Body::id_t beaten1[8], beaten2[8];
 	int        nb1 = 0, nb2 = 0;
 	// each side tests its own neighbours with the other side's closest point as a probe
-	const bool own = overlap > 0 && flexa::owns(scene, c1, I->getId1(), ss.p2, c2.radius, flexa::probeOverlap(scene, c1, ss.p2, c2.radius), beaten1, nb1)
-	        && flexa::owns(scene, c2, I->getId2(), ss.p1, c1.radius, flexa::probeOverlap(scene, c2, ss.p1, c1.radius), beaten2, nb2);
+	const bool own = overlap > 0
+	        && flexa::owns(scene, c1, I->getId1(), ss.p2, c2.radius, flexa::probeOverlap(scene, c1, ss.p2, c2.radius), ss.s, ss.p1, beaten1, nb1)
+	        && flexa::owns(scene, c2, I->getId2(), ss.p1, c1.radius, flexa::probeOverlap(scene, c2, ss.p1, c1.radius), ss.t, ss.p2, beaten2, nb2);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);

@@ -7,7 +7,7 @@ import yadeflex as yf
 from yadeflex import scenes
 
 
-def _run(cls, steps=400):
+def _run(cls, steps=1500):
     scenes.net_impact(n=10, spacing=0.05, wire_radius=0.002, sphere_radius=0.06, speed=6.0, damping=0.2)
     old = O.engines[-1]
     O.engines = O.engines[:-1] + [cls(gravity=old.gravity, damping=old.damping)]

@@ -28,7 +28,7 @@ def test_every_class_runs_saves_loads_continues(scene, tmp_path):
     # C++ wrote node masses that Python reads: the layouts of State agree
     assert all(O.bodies[i].state.mass > 0 for i in ids)
     classes, kinds = set(), set()
-    for _ in range(30):
+    for _ in range(100):
         advance(10)
         real = [i for i in O.interactions if i.isReal]
         classes |= {type(i.geom).__name__ for i in real}

@@ -15,7 +15,7 @@ import os
 from conftest import run_yade, HERE
 
 
-def _run(j, steps=200, kind="impact"):
+def _run(j, steps=400, kind="impact"):
     out = run_yade(os.path.join(HERE, "scripts", "threads_scene.py"), threads=j, args=[steps, kind])
     line = [l for l in out.splitlines() if l.startswith("POS ")][-1]
     return json.loads(line[4:])
