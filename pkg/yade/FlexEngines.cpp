@@ -28,19 +28,27 @@ void FlexElementEngine::action()
 	const long              n = (long)cylinders.size();
 	std::vector<Body::id_t> broken;
 	const bool              energy = scene->trackEnergy;
+	const Material* lastMat  = nullptr; // elements mostly share a material: cast it once
+	const FlexMat*  lastFlex = nullptr;
+	auto&           bodies   = *scene->bodies;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, lastFlex)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t id = cylinders[k];
-		Body*            b  = (*scene->bodies)[id].get();
+		Body*            b  = bodies[id].get();
 		if (!b) continue;
 		FlexCylinder& c = static_cast<FlexCylinder&>(*b->shape);
 		if (!c.attached) continue;
-		State *si = (*scene->bodies)[c.node1] ? (*scene->bodies)[c.node1]->state.get() : nullptr;
-		State *sj = (*scene->bodies)[c.node2] ? (*scene->bodies)[c.node2]->state.get() : nullptr;
-		const FlexMat* mat = dynamic_cast<const FlexMat*>(b->material.get());
-		if (!si || !sj || !mat) continue;
+		Body* bi = bodies[c.node1].get();
+		Body* bj = bodies[c.node2].get();
+		if (b->material.get() != lastMat) {
+			lastMat  = b->material.get();
+			lastFlex = dynamic_cast<const FlexMat*>(lastMat);
+		}
+		const FlexMat* mat = lastFlex;
+		if (!bi || !bj || !mat) continue;
+		State *si = bi->state.get(), *sj = bj->state.get();
 		flex::BeamRest rest;
 		rest.L0 = c.L0;
 		rest.Qi = c.Q1;
@@ -354,10 +362,16 @@ void FlexNewtonIntegrator::action()
 		if (blocked != State::DOF_ALL) {
 			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
 			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
-			Vector3r a = Vector3r::Zero(), al = Vector3r::Zero();
-			for (int i = 0; i < 3; ++i) {
-				if (!(blocked & State::axisDOF(i, false))) a[i] = f[i] / st->mass + (dampGravity ? gravity[i] : 0);
-				if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
+			Vector3r a, al;
+			if (blocked == 0) { // the common case, as vectors (the same IEEE operations per component)
+				a  = dampGravity ? Vector3r(f / st->mass + gravity) : Vector3r(f / st->mass);
+				al = m.cwiseQuotient(st->inertia);
+			} else {
+				a = al = Vector3r::Zero();
+				for (int i = 0; i < 3; ++i) {
+					if (!(blocked & State::axisDOF(i, false))) a[i] = f[i] / st->mass + (dampGravity ? gravity[i] : 0);
+					if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
+				}
 			}
 			if (st->isDamped && damping != 0)
 				for (int i = 0; i < 3; ++i) {
