@@ -8,13 +8,41 @@
 #include <kernel/TimeStep.hpp>
 
 #include <cmath>
+#include <mutex>
 #include <type_traits>
+#include <utility>
 
 namespace yade {
 static_assert(std::is_same<Vector3r, flex::Vec3>::value, "yade-flex expects YADE_REAL_BIT=64 (Real = double)");
 static_assert(std::is_same<Quaternionr, flex::Quat>::value, "yade-flex expects YADE_REAL_BIT=64 (Real = double)");
 
 namespace flexa {
+	/// Collider pairs of bonded neighbours (elements sharing a node), reported once by the
+	/// Ig2 and erased by FlexElementEngine outside the interaction loop. Their bounds always
+	/// overlap (both contain the shared node), so the insertion-sort collider never re-creates
+	/// them (no min/max inversion between them can occur) until it re-initialises; then they
+	/// are reported and erased again. Net effect: no per-step cost at all.
+	struct NeighbourPairs {
+		std::mutex                                    m;
+		const Scene*                                  scene = nullptr;
+		std::vector<std::pair<Body::id_t, Body::id_t>> pairs;
+	};
+	inline NeighbourPairs& neighbourPairs()
+	{
+		static NeighbourPairs p;
+		return p;
+	}
+	inline void reportNeighbourPair(const Scene* scene, Body::id_t a, Body::id_t b)
+	{
+		NeighbourPairs&             np = neighbourPairs();
+		std::lock_guard<std::mutex> lock(np.m);
+		if (np.scene != scene) { // another scene (O.reset, switchScene): its reports are stale
+			np.pairs.clear();
+			np.scene = scene;
+		}
+		np.pairs.emplace_back(a, b);
+	}
+
 	inline flex::BeamSection section(const FlexMat& m, Real radius)
 	{
 		return flex::BeamSection::circular(m.young, m.young / (2 * (1 + m.beamPoisson)), radius, m.bendingFactor);

@@ -79,6 +79,17 @@ void FlexElementEngine::action()
 			broken.push_back(id);
 		}
 	}
+	{ // erase the collider pairs of bonded neighbours reported by the Ig2 (see FlexCommon.hpp)
+		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
+		std::lock_guard<std::mutex> lock(np.m);
+		if (np.scene == scene && !np.pairs.empty()) {
+			for (const auto& pr : np.pairs) {
+				const shared_ptr<Interaction> I = scene->interactions->find(pr.first, pr.second);
+				if (I && !I->isReal()) scene->interactions->erase(pr.first, pr.second, I->linIx);
+			}
+			np.pairs.clear();
+		}
+	}
 	if (broken.empty()) return;
 	std::sort(broken.begin(), broken.end()); // same order whatever the thread count
 	for (Body::id_t id : broken) {

@@ -76,9 +76,10 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	const FlexCylinder& c1 = static_cast<const FlexCylinder&>(*cm1);
 	const FlexCylinder& c2 = static_cast<const FlexCylinder&>(*cm2);
 	if (flexa::shareNode(c1, c2)) {
-		// bonded neighbours: switch the pair off for as long as it exists (InteractionLoop
-		// then skips it at the cost of a flag test)
+		// bonded neighbours: switch the pair off now (InteractionLoop skips it at the cost of a
+		// flag test) and have FlexElementEngine erase it after the loop (no cost at all)
 		I->functorCache.geomExists = false;
+		flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
 		return false;
 	}
 	const State *a0 = flexa::stateOf(scene, c1.node1), *a1 = flexa::stateOf(scene, c1.node2);

@@ -186,3 +186,5 @@ def test_bonded_neighbours_never_become_contacts(scene):
     for _ in range(100):
         O.step()
     assert len([i for i in O.interactions if i.isReal]) == 0
+    # and they cost nothing per step: their collider pairs are gone, not merely skipped
+    assert len(O.interactions) == 0
