@@ -157,7 +157,7 @@ public:
 		throw std::logic_error("Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::goReverse called.");
 	}
 	// clang-format off
-	YADE_CLASS_BASE_DOC(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom, IGeomFunctor, "Contact between :yref:`FlexCylinder` elements of different chains (parallel, crossing and intersecting axes handled). Elements sharing a node never interact: their pair is switched off once, for good, and costs nothing afterwards.");
+	YADE_CLASS_BASE_DOC(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom, IGeomFunctor, "Contact between :yref:`FlexCylinder` elements of different chains (parallel, crossing and intersecting axes handled). Elements sharing a node never interact: their collider pair is switched off and then erased by FlexElementEngine, so it costs nothing per step.");
 	// clang-format on
 	FUNCTOR2D(FlexCylinder, FlexCylinder);
 	DEFINE_FUNCTOR_ORDER_2D(FlexCylinder, FlexCylinder);

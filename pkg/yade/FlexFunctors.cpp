@@ -48,7 +48,9 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	if (isNew && overlap <= 0 && !force) return false;
 	Body::id_t beaten[8];
 	int        nb  = 0;
-	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, flexa::probeOverlap(scene, cyl, P, R), ps.u, ps.point, beaten, nb);
+	// `overlap` is bit-identical to what a neighbour's test computes for this element (same
+	// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
+	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, overlap, ps.u, ps.point, beaten, nb);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
