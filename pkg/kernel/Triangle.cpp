@@ -17,26 +17,32 @@ namespace {
 		return p[2] < q[2];
 	}
 
-	// closest point on edge (xi, xj) of the triangle (node indices i, j)
-	PointTriangle onEdge(const Vec3& p, const Vec3* x, int i, int j)
+	// the point at parameter u of edge (xi, xj) (node indices i, j), exact at the ends
+	PointTriangle edgePoint(int i, int j, double u, const Vec3& point)
 	{
 		PointTriangle r;
 		r.w[0] = r.w[1] = r.w[2] = 0;
-		if (before(x[j], x[i])) std::swap(i, j);
-		const PointSegment ps = closestPointOnSegment(p, x[i], x[j]);
-		r.point               = ps.point;
-		if (ps.u <= 0) {
+		r.point                  = point;
+		if (u <= 0) {
 			r.w[i]    = 1;
 			r.support = 1u << i;
-		} else if (ps.u >= 1) {
+		} else if (u >= 1) {
 			r.w[j]    = 1;
 			r.support = 1u << j;
 		} else {
-			r.w[i]    = 1 - ps.u;
-			r.w[j]    = ps.u;
+			r.w[i]    = 1 - u;
+			r.w[j]    = u;
 			r.support = (1u << i) | (1u << j);
 		}
 		return r;
+	}
+
+	// closest point on edge (xi, xj) of the triangle (node indices i, j)
+	PointTriangle onEdge(const Vec3& p, const Vec3* x, int i, int j)
+	{
+		if (before(x[j], x[i])) std::swap(i, j);
+		const PointSegment ps = closestPointOnSegment(p, x[i], x[j]);
+		return edgePoint(i, j, ps.u, ps.point);
 	}
 
 	PointTriangle atVertex(const Vec3* x, int i)
@@ -129,21 +135,7 @@ SegmentTriangle closestPointsSegmentTriangle(const Vec3& a, const Vec3& b, const
 			d2      = dd;
 			best.s  = ss.s;
 			best.p1 = ss.p1;
-			PointTriangle t;
-			t.w[0] = t.w[1] = t.w[2] = 0;
-			t.point                  = ss.p2;
-			if (ss.t <= 0) {
-				t.w[i]    = 1;
-				t.support = 1u << i;
-			} else if (ss.t >= 1) {
-				t.w[j]    = 1;
-				t.support = 1u << j;
-			} else {
-				t.w[i]    = 1 - ss.t;
-				t.w[j]    = ss.t;
-				t.support = (1u << i) | (1u << j);
-			}
-			best.t = t;
+			best.t  = edgePoint(i, j, ss.t, ss.p2);
 		}
 	}
 	const Vec3 ab = x2 - x1, ac = x3 - x1;
