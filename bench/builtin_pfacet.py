@@ -83,13 +83,14 @@ from yade.minieigenHP import Vector3
 
 
 def _here():
-	try:
-		return os.path.dirname(os.path.abspath(__file__))
-	except NameError:  # executed by yade -x without __file__
-		for a in sys.argv:
-			if a.endswith('builtin_pfacet.py'):
-				return os.path.dirname(os.path.abspath(a))
-		return os.path.join(os.getcwd(), 'bench')
+	"""Directory of this file (when run by yade -x, __file__ is yade's own script)."""
+	f = globals().get('__file__', '')
+	if f.endswith('builtin_pfacet.py'):
+		return os.path.dirname(os.path.abspath(f))
+	for a in sys.argv:
+		if a.endswith('builtin_pfacet.py'):
+			return os.path.dirname(os.path.abspath(a))
+	return os.path.join(os.getcwd(), 'bench')
 
 
 BENCH_DIR = _here()
@@ -216,7 +217,8 @@ def contact_kn(young_sphere, sphere_radius, young_facet, facet_radius):
 
 def _set_dt(dt_factor, kn_c, sphere_id=None):
 	dtp = utils.PWaveTimeStep()
-	dts = bg.stiffness_dt()
+	free = any(isinstance(b.shape, GridNode) and b.state.blockedDOFs != 'xyzXYZ' for b in O.bodies)
+	dts = bg.stiffness_dt() if free else float('inf')  # a fully blocked mesh has no bond time step
 	masses = [b.state.mass for b in O.bodies if isinstance(b.shape, GridNode) and b.state.blockedDOFs != 'xyzXYZ' and b.state.mass > 0]
 	if sphere_id is not None:
 		masses.append(O.bodies[sphere_id].state.mass)
@@ -277,6 +279,20 @@ def counts():
 def sphere_contacts(sid):
 	"""Real interactions of body sid."""
 	return sum(1 for i in O.interactions.withBody(sid) if i.isReal)
+
+
+def _is_active(i, sid):
+	"""Whether Law2_ScGridCoGeom_FrictPhys_CundallStrack applies a force for this real interaction: it skips
+	a ScGridCoGeom flagged isDuplicate unless the other body is its trueInt."""
+	g = i.geom
+	other = i.id2 if i.id1 == sid else i.id1
+	dup = getattr(g, 'isDuplicate', 0)
+	return dup == 0 or other == getattr(g, 'trueInt', -1)
+
+
+def active_contacts(sid):
+	"""Real interactions of body sid that the law does not skip as duplicates (see _is_active)."""
+	return sum(1 for i in O.interactions.withBody(sid) if i.isReal and _is_active(i, sid))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -356,15 +372,15 @@ def sheet(
 def bumpy(
         n=16,
         size=1.0,
-        amplitude=0.01,
-        wavelength=0.25,
+        amplitude=0.005,
+        wavelength=0.5,
         thickness=0.004,
         young=1e9,
         poisson=0.3,
         sphere_radius=0.05,
         sphere_mass=1.0,
         sphere_young=1e9,
-        speed=1.0,
+        speed=0.5,
         friction_deg=30.0,
         y0=None,
         dt_factor=0.5,
@@ -387,6 +403,8 @@ def bumpy(
 		return amplitude * math.sin(k * x) * math.sin(k * y)
 
 	pts, tris, _ = grid_mesh(n, size, height)
+	_MESH.clear()
+	_MESH.update({'points': pts, 'triangles': tris, 'radius': r})
 	_engines(gravity=(0, 0, -G_ACC), damping=0.0, neighbour_pairs=neighbour_pairs)
 	node_mat, ext_mat = _mesh_materials(young, poisson, 1000.0, young, friction_deg)
 	sph_mat = _sphere_material(sphere_young, poisson, sphere_mass / (4.0 / 3.0 * math.pi * sphere_radius**3), friction_deg)
@@ -406,23 +424,98 @@ def bumpy(
 	return res
 
 
-def contact_history(sid, n_steps, every=10):
+_MESH = {}  # the fixed mesh of the last bumpy() (points, triangles, radius) for mesh_gap()
+
+
+def _closest_on_triangle(p, a, b, c):
+	"""Closest point to p on the triangle abc (3-tuples) and its region ('vertex', 'edge' or 'face'):
+	walk of the Voronoi regions of the vertices, edges and face (Ericson, Real-Time Collision Detection 5.1.5)."""
+	def sub(u, v):
+		return (u[0] - v[0], u[1] - v[1], u[2] - v[2])
+
+	def dot(u, v):
+		return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+	def add(u, v, t):
+		return (u[0] + t * v[0], u[1] + t * v[1], u[2] + t * v[2])
+
+	ab, ac, ap = sub(b, a), sub(c, a), sub(p, a)
+	d1, d2 = dot(ab, ap), dot(ac, ap)
+	if d1 <= 0 and d2 <= 0:
+		return a, 'vertex'
+	bp = sub(p, b)
+	d3, d4 = dot(ab, bp), dot(ac, bp)
+	if d3 >= 0 and d4 <= d3:
+		return b, 'vertex'
+	vc = d1 * d4 - d3 * d2
+	if vc <= 0 and d1 >= 0 and d3 <= 0:
+		return add(a, ab, d1 / (d1 - d3)), 'edge'
+	cp = sub(p, c)
+	d5, d6 = dot(ab, cp), dot(ac, cp)
+	if d6 >= 0 and d5 <= d6:
+		return c, 'vertex'
+	vb = d5 * d2 - d1 * d6
+	if vb <= 0 and d2 >= 0 and d6 <= 0:
+		return add(a, ac, d2 / (d2 - d6)), 'edge'
+	va = d3 * d6 - d5 * d4
+	if va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0:
+		return add(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))), 'edge'
+	den = 1.0 / (va + vb + vc)
+	v, w = vb * den, vc * den
+	return add(add(a, ab, v), ac, w), 'face'
+
+
+def mesh_gap(sid, with_region=False):
+	"""Exact gap [m] between sphere sid and the fixed mesh of the last bumpy() (PFacet = triangle
+	swept by a sphere of radius r): min over triangles of |centre - closest point| - R - r.
+	Negative = geometric overlap, i.e. the sphere should feel a force.  with_region: returns
+	(gap, region of the closest point: 'face', 'edge' or 'vertex')."""
+	c = tuple(O.bodies[sid].state.pos)
+	R = O.bodies[sid].shape.radius
+	pts = _MESH['points']
+	best, reg = float('inf'), '-'
+	for t in _MESH['triangles']:
+		a, b, d = pts[t[0]], pts[t[1]], pts[t[2]]
+		if min(a[0], b[0], d[0]) > c[0] + R + 0.1 or max(a[0], b[0], d[0]) < c[0] - R - 0.1:
+			continue
+		if min(a[1], b[1], d[1]) > c[1] + R + 0.1 or max(a[1], b[1], d[1]) < c[1] - R - 0.1:
+			continue
+		q, rg = _closest_on_triangle(c, a, b, d)
+		dist = math.dist(c, q)
+		if dist < best - 1e-12:
+			best, reg = dist, rg
+	g = best - R - _MESH['radius']
+	return (g, reg) if with_region else g
+
+
+def contact_history(sid, n_steps, every=10, gap=False):
 	"""Runs n_steps (O.step loop) and records every `every` steps: a list of dicts
-	{'iter', 't' [s], 'x', 'z' [m], 'vx' [m/s], 'contacts' (real interactions of sid), 'fz' [N] (force on sid)}."""
+	{'iter', 't' [s], 'x', 'z' [m], 'vx' [m/s], 'contacts' (real interactions of sid), 'active' (those the
+	law does not skip as duplicates), 'fz' [N] (force on sid), and with gap=True 'gap' [m] (mesh_gap, the
+	exact geometric gap to the mesh of the last bumpy(), negative = overlap), 'region' (closest feature:
+	face/edge/vertex) and 'energy' [J] (kinetic + rotational + gravitational energy of the sphere).  The gap refers to
+	the position at which the step computed its forces."""
 	out = []
 	for k in range(n_steps):
+		g, reg = mesh_gap(sid, True) if gap and k % every == 0 else (None, None)
 		O.step()
 		if k % every == 0:
 			st = O.bodies[sid].state
-			out.append({
+			rec = {}
+			if gap:
+				w = st.angVel
+				erot = 0.5 * (st.inertia[0] * w[0]**2 + st.inertia[1] * w[1]**2 + st.inertia[2] * w[2]**2)
+				rec = {'gap': g, 'region': reg, 'energy': 0.5 * st.mass * st.vel.squaredNorm() + erot + st.mass * G_ACC * st.pos[2]}
+			out.append(dict(rec, **{
 			        'iter': O.iter,
 			        't': O.time,
 			        'x': st.pos[0],
 			        'z': st.pos[2],
 			        'vx': st.vel[0],
 			        'contacts': sphere_contacts(sid),
+			        'active': active_contacts(sid),
 			        'fz': O.forces.f(sid)[2],
-			})
+			}))
 	return out
 
 
@@ -519,7 +612,9 @@ def _rot_x(p, ang):
 
 
 def probe_cases():
-	"""The probe geometries: list of (name, description, points, triangles, feature point, outward direction)."""
+	"""The probe geometries: list of (name, description, points, triangles, feature point, outward direction
+	[, extra]); extra: {'centre_dist': f(R, r, overlap) -> centre distance from the feature point,
+	'factor': expected force / (kn overlap)}."""
 	s3 = math.sqrt(3.0)
 	tri = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.5, 0.5 * s3, 0.0)]
 	cen = (0.5, 0.5 * s3 / 3.0, 0.0)
@@ -545,6 +640,11 @@ def probe_cases():
 	pr = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), _rot_x((0.5, 0.8, 0.0), -ang), _rot_x((0.5, -0.8, 0.0), ang)]
 	cases.append(('ridge_30', 'two facets folded 30 deg (convex), ridge midpoint, along the bisector', pr, [(0, 1, 2), (1, 0, 3)], (0.5, 0.0, 0.0),
 	              (0, 0, 1)))
+	# concave fold (valley) of 30 deg: the sphere on the bisector touches both facets with `overlap` each;
+	# expected total force along the bisector 2 kn overlap cos(15 deg)
+	pv = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), _rot_x((0.5, 0.8, 0.0), ang), _rot_x((0.5, -0.8, 0.0), -ang)]
+	cases.append(('valley_30', 'two facets folded 30 deg (concave), sphere on the bisector touching both', pv, [(0, 1, 2), (1, 0, 3)],
+	              (0.5, 0.0, 0.0), (0, 0, 1), {'centre_dist': lambda R, r, d: (R + r - d) / math.cos(ang), 'factor': 2.0 * math.cos(ang)}))
 	# (v) shared edge of two coplanar facets
 	pc = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.5, 0.8, 0.0), (0.5, -0.8, 0.0)]
 	cases.append(('shared_edge_flat', 'two coplanar facets, shared-edge midpoint, normal direction', pc, [(0, 1, 2), (1, 0, 3)], (0.5, 0.0, 0.0),
@@ -559,15 +659,20 @@ def probe_cases():
 	return cases
 
 
-def probe(name, points, triangles, feature, direction, overlap=PROBE_OVERLAP, steps=(1, 5)):
+def probe(name, points, triangles, feature, direction, overlap=PROBE_OVERLAP, steps=(1, 5), extra=None):
 	"""Sphere (radius PROBE_R, blocked) placed with `overlap` [m] against `feature` of a fixed mesh; after
 	each count of steps in `steps`, records contacts, contact kinds, normal force F.n [N] (n = unit
 	direction) and |F| [N].  Analytic: kn_c * overlap with kn_c = contact_kn(E, R, E, r)."""
 	m, sph_mat = _probe_scene(points, triangles)
-	sid, n = _place_sphere(sph_mat, feature, direction, overlap)
+	extra = extra or {}
+	place = overlap
+	if 'centre_dist' in extra:  # centre distance from the feature given (e.g. valley: overlap with each facet)
+		place = PROBE_R + PROBE_r - extra['centre_dist'](PROBE_R, PROBE_r, overlap)
+	sid, n = _place_sphere(sph_mat, feature, direction, place)
 	O.dt = 1e-5
 	kn = contact_kn(PROBE_E, PROBE_R, PROBE_E, PROBE_r)
-	row = {'probe': name, 'overlap_m': overlap, 'kn_analytic_N_per_m': kn, 'F_analytic_N': kn * overlap}
+	fa = extra.get('factor', 1.0) * kn * overlap
+	row = {'probe': name, 'overlap_m': overlap, 'kn_analytic_N_per_m': kn, 'F_analytic_N': fa}
 	done = 0
 	for s in steps:
 		while done < s:
@@ -575,10 +680,11 @@ def probe(name, points, triangles, feature, direction, overlap=PROBE_OVERLAP, st
 			done += 1
 		f = O.forces.f(sid)
 		row['contacts_step%d' % s] = sphere_contacts(sid)
+		row['active_step%d' % s] = active_contacts(sid)
 		row['kinds_step%d' % s] = _contact_kinds(sid)
 		row['Fn_step%d_N' % s] = f.dot(n)
 		row['Fabs_step%d_N' % s] = f.norm()
-		row['ratio_step%d' % s] = f.dot(n) / (kn * overlap)
+		row['ratio_step%d' % s] = f.dot(n) / fa
 	return row
 
 
@@ -599,7 +705,7 @@ def slide_probe(y=0.0, x_from=0.35, x_to=0.65, n_samples=300, overlap=PROBE_OVER
 		x = O.bodies[sid].state.pos[0]
 		O.step()
 		f = O.forces.f(sid)
-		rows.append({'x': x, 'contacts': sphere_contacts(sid), 'kinds': _contact_kinds(sid), 'fz': f[2], 'fx': f[0]})
+		rows.append({'x': x, 'contacts': sphere_contacts(sid), 'active': active_contacts(sid), 'kinds': _contact_kinds(sid), 'fz': f[2], 'fx': f[0]})
 	jumps = [(abs(b['fz'] - a['fz']), b['x']) for a, b in zip(rows[:-1], rows[1:])]
 	mj = max(jumps)
 	summ = {
@@ -638,8 +744,9 @@ def _write_csv(path, rows):
 
 def run_probes(write=True):
 	rows = []
-	for name, desc, pts, tris, feat, d in probe_cases():
-		row = probe(name, pts, tris, feat, d)
+	for case in probe_cases():
+		name, desc, pts, tris, feat, d = case[:6]
+		row = probe(name, pts, tris, feat, d, extra=case[6] if len(case) > 6 else None)
 		row['description'] = desc
 		rows.append(row)
 	slides = (
@@ -721,30 +828,42 @@ def main(n_steps=300, reps=5):
 	print('  E_bond=%.4g Pa, Et_model=%.4g N/m, mass=%.4g kg, kn_contact=%.4g N/m, dt=%.3g s (pwave %.3g, stiff %.3g, contact %.3g)' %
 	      (info['young_bond'], info['membrane_Et_model'], info['mass_membrane'], info['kn_contact'], info['dt'], info['dt_pwave'],
 	       info['dt_stiff'], info['dt_contact']))
-	hist = contact_history(sid, 20000, every=2000)
+	hist = contact_history(sid, 12000, every=1000)
 	for h in hist:
-		print('  t=%.3f s  z=%.4f m  contacts=%d  fz=%.2f N' % (h['t'], h['z'], h['contacts'], h['fz']))
+		print('  t=%.3f s  z=%.4f m  contacts=%d (active %d)  fz=%.2f N' % (h['t'], h['z'], h['contacts'], h['active'], h['fz']))
 
-	print('\n== bumpy n=16: sphere 1 kg, R=0.05 m, v0=1 m/s over A=0.01 m, lambda=0.25 m ==')
-	info = bumpy(n=16)
-	sid = info['sphere_id']
-	hist = contact_history(sid, int(0.7 / info['dt']), every=1)
-	hist = [h for h in hist if h['x'] < 1.0 - 2 * 0.05]
-	_write_csv(os.path.join(_results_dir(), 'builtin_pfacet_bumpy.csv'), hist)
-	dist = {}
-	for h in hist:
-		dist[h['contacts']] = dist.get(h['contacts'], 0) + 1
-	print('  steps recorded: %d, contact-count distribution: %s' % (len(hist), ', '.join('%d:%d' % kv for kv in sorted(dist.items()))))
+	print('\n== bumpy n=16: sphere 1 kg, R=0.05 m, v0=0.5 m/s over z = A sin(kx) sin(ky), A=5 mm, lambda=0.5 m ==')
+	brows = []
+	for dtf in (0.5, 0.1):
+		info = bumpy(n=16, dt_factor=dtf)
+		sid = info['sphere_id']
+		hist = contact_history(sid, int(0.6 / info['dt']), every=1 if dtf == 0.5 else 5, gap=True)
+		for h in hist:
+			h['dt_factor'] = dtf
+		brows += hist
+		over = [h for h in hist if h['gap'] < -1e-6]
+		miss = [h for h in over if h['active'] == 0]
+		dist = {}
+		for h in hist:
+			dist[h['active']] = dist.get(h['active'], 0) + 1
+		regions = {}
+		for h in miss:
+			regions[h['region']] = regions.get(h['region'], 0) + 1
+		print('  dt=%.3g s (dt_factor %.1f): %d samples, x %.3f -> %.3f m; samples with overlap > 1 um: %d, of which with NO active'
+		      ' contact: %d (closest feature %s), deepest missed overlap %.3g mm; active-contact distribution %s; sphere energy %.4g -> max %.4g J' %
+		      (info['dt'], dtf, len(hist), hist[0]['x'], hist[-1]['x'], len(over), len(miss), regions, -1e3 * min([h['gap'] for h in miss] or [0]),
+		       ', '.join('%d:%d' % kv for kv in sorted(dist.items())), hist[0]['energy'], max(h['energy'] for h in hist)))
+	_write_csv(os.path.join(_results_dir(), 'builtin_pfacet_bumpy.csv'), brows)
 
 	print('\n== contact probes: sphere R=%g m, PFacet r=%g m, E=%g Pa, overlap %g m, kn=%.4g N/m ==' %
 	      (PROBE_R, PROBE_r, PROBE_E, PROBE_OVERLAP, contact_kn(PROBE_E, PROBE_R, PROBE_E, PROBE_r)))
 	prows, srows, summ = run_probes()
-	print('%-22s %9s %9s %22s %10s %10s' % ('probe', 'contacts1', 'contacts5', 'kinds(step5)', 'Fn/kn.d 1', 'Fn/kn.d 5'))
+	print('%-22s %9s %9s %9s %22s %10s %10s' % ('probe', 'contacts1', 'contacts5', 'active5', 'kinds(step5)', 'Fn/kn.d 1', 'Fn/kn.d 5'))
 	for r in prows:
 		if r['probe'].startswith('slide'):
 			continue
-		print('%-22s %9d %9d %22s %10.4f %10.4f' %
-		      (r['probe'], r['contacts_step1'], r['contacts_step5'], r['kinds_step5'], r['ratio_step1'], r['ratio_step5']))
+		print('%-22s %9d %9d %9d %22s %10.4f %10.4f' %
+		      (r['probe'], r['contacts_step1'], r['contacts_step5'], r['active_step5'], r['kinds_step5'], r['ratio_step1'], r['ratio_step5']))
 	for r in prows:
 		if r['probe'].startswith('slide'):
 			print('%-22s contacts %d..%d, Fn %.4g..%.4g N (analytic %.4g), largest jump %.4g N at x=%.4f' %
