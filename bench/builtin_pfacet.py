@@ -24,14 +24,20 @@
 #     C_ijkl = (1/h^2) sum_bars(in one cell) EA L n_i n_j n_k n_l,   EA = E_c pi r^2,
 # bars: x (L = h), y (L = h), diagonal (L = h sqrt2, n = (1,1)/sqrt2):
 #     C1111 = C2222 = (EA/h)(1 + sqrt2/4) = 1.354 EA/h,   C1122 = C1212 = (sqrt2/4) EA/h = 0.354 EA/h,
-#     C1112 = C2212 = 0.354 EA/h (anisotropic: the diagonal direction is stiffer than the other).
-# Uniaxial stiffness along x (free lateral contraction): (E t)_x = C1111 - C1122^2/C2222 = 1.261 EA/h.
-# We choose the connection modulus E_c so that (E t)_x equals the target membrane stiffness:
+#     C1112 = C2212 = 0.354 EA/h (Voigt matrix [[1.354, .354, .354], [.354, 1.354, .354], [.354, .354, .354]] EA/h).
+# Uniaxial stiffness along x with free lateral contraction and zero shear strain:
+#     (E t)_x = C1111 - C1122^2/C2222 = 1.261 EA/h.
+# We choose the connection modulus E_c so that this equals the target membrane stiffness:
 #     E_c = Et * h / (1.261 pi r^2),       r = thickness / 2 (the PFacet radius)
 # so E_c is NOT a material modulus (for Et = 30 kN/m, h = 1/12 m, r = 2 mm: E_c = 0.16 GPa).
-# What the built-in then has: Poisson-like ratio C1122/C2222 = 0.26 (fixed by the topology, not a
-# parameter), in-plane shear C1212 = 0.354 EA/h = 0.28 (Et)_x instead of Et/(2(1+nu)) = 0.40 Et
-# for nu = 0.26; stiffness along the two diagonals differs (1.06 vs 0.35 EA/h for the C_nnnn term).
+# What the built-in then has (a truss, not a membrane law; it cannot represent (E t, nu)):
+#   * Poisson-like ratio C1122/C2222 = 0.26, fixed by the topology, not a parameter;
+#   * strongly anisotropic: uniaxial stiffness with ALL other stresses zero (shear free too) is
+#     1.00 EA/h along x or y (nu = 0: the cell shears and the diagonal unloads), 0.300 EA/h along the
+#     diagonal direction (1,1) and 0.136 EA/h along (1,-1); C_nnnn = 1.914 vs 0.500 EA/h for the two
+#     diagonals.  So the "E t" of this sheet is 30 kN/m only along x/y with the shear held, between
+#     23.8 and 30 kN/m along x/y, and 3.2-7.1 kN/m along the diagonals;
+#   * in-plane shear C1212 = 0.354 EA/h = 0.28 (E t)_x (isotropic with nu = 0.26 would give 0.40 E t).
 # Each bar also has bending/shear springs (ks/kn = 3 r^2/L^2 ~ 2e-3 here): a small, mesh-dependent
 # out-of-plane stiffness of rods, not of a plate.
 #
@@ -692,7 +698,8 @@ def slide_probe(y=0.0, x_from=0.35, x_to=0.65, n_samples=300, overlap=PROBE_OVER
 	"""Sphere moved at imposed velocity along x with constant overlap over the two coplanar facets of
 	'shared_edge_flat' rotated so that the shared edge is the line x = 0.5 (path crosses it at y).
 	Returns a list of dicts {'x', 'contacts', 'kinds', 'fz' [N], 'fx' [N]} (one per step) and the
-	summary {'F_analytic', 'fz_min', 'fz_max', 'max_jump' (largest |fz(k+1)-fz(k)|), 'x_jump'}."""
+	summary {'F_analytic', 'fz_min', 'fz_max', 'max_jump' (largest |fz(k+1)-fz(k)|), 'x_jump' (x after that
+	jump), 'min_contacts', 'max_contacts', 'x_lost' (x of the samples with no active contact)}."""
 	pts = [(0.5, -1.0, 0.0), (0.5, 1.0, 0.0), (1.5, 0.0, 0.0), (-0.5, 0.0, 0.0)]
 	m, sph_mat = _probe_scene(pts, [(0, 1, 2), (1, 0, 3)], friction_deg)
 	sid, n = _place_sphere(sph_mat, (x_from, y, 0.0), (0, 0, 1), overlap)
@@ -716,6 +723,7 @@ def slide_probe(y=0.0, x_from=0.35, x_to=0.65, n_samples=300, overlap=PROBE_OVER
 	        'x_jump': mj[1],
 	        'max_contacts': max(r['contacts'] for r in rows),
 	        'min_contacts': min(r['contacts'] for r in rows),
+	        'x_lost': [r['x'] for r in rows if r['active'] == 0],
 	}
 	return rows, summ
 
@@ -772,6 +780,7 @@ def run_probes(write=True):
 		        'Fn_max_N': sm['fz_max'],
 		        'max_jump_N': sm['max_jump'],
 		        'x_jump_m': sm['x_jump'],
+		        'x_no_contact_m': ' '.join('%.6f' % x for x in sm['x_lost']),
 		        'description': 'sphere moved along x (0.35 -> 0.65 m) across the shared edge x=0.5 of two coplanar facets at constant overlap; ' + what,
 		})
 	srows = srows_all
@@ -785,7 +794,25 @@ def _fmt_breakdown(b):
 	return ' '.join('%s=%.1f(%.0f%%)' % (k, v, 100 * b['share'][k]) for k, v in b['engines'].items())
 
 
+def _machine_line():
+	"""'cpu model; cores; date; load average' for the results directory."""
+	model = '?'
+	try:
+		with open('/proc/cpuinfo') as f:
+			for line in f:
+				if line.startswith('model name'):
+					model = line.split(':', 1)[1].strip()
+					break
+	except OSError:
+		pass
+	return '%s; %d cores; %s UTC; load average %s; YADE %s, %d thread(s)\n' % (model, os.cpu_count() or 0, time.strftime('%Y-%m-%d %H:%M', time.gmtime()),
+	                                                                      ' '.join('%.2f' % x for x in os.getloadavg()), yade.config.version,
+	                                                                      O.numThreads)
+
+
 def main(n_steps=300, reps=5):
+	with open(os.path.join(_results_dir(), 'builtin_pfacet_machine.txt'), 'w') as f:
+		f.write(_machine_line())
 	print('yade-flex bench: built-in PFacet reference, YADE %s, %d thread(s), %s' % (yade.config.version, O.numThreads, time.strftime('%Y-%m-%d %H:%M')))
 	rows = []
 	print('\n== timing: median of %d x %d steps (O.step loop), per-engine from one extra timed run ==' % (reps, n_steps))
@@ -800,7 +827,7 @@ def main(n_steps=300, reps=5):
 		info = builder()
 		sid = info['sphere_id']
 		# let the sphere reach the membrane/surface so that the timed steps include a real contact
-		for _ in range(4000):
+		for _ in range(8000):
 			O.step()
 			if sphere_contacts(sid):
 				break
@@ -866,8 +893,9 @@ def main(n_steps=300, reps=5):
 		      (r['probe'], r['contacts_step1'], r['contacts_step5'], r['active_step5'], r['kinds_step5'], r['ratio_step1'], r['ratio_step5']))
 	for r in prows:
 		if r['probe'].startswith('slide'):
-			print('%-22s contacts %d..%d, Fn %.4g..%.4g N (analytic %.4g), largest jump %.4g N at x=%.4f' %
-			      (r['probe'], r['contacts_min'], r['contacts_max'], r['Fn_min_N'], r['Fn_max_N'], r['F_analytic_N'], r['max_jump_N'], r['x_jump_m']))
+			print('%-22s contacts %d..%d, Fn %.4g..%.4g N (analytic %.4g), largest jump %.4g N; no contact at x = [%s]' %
+			      (r['probe'], r['contacts_min'], r['contacts_max'], r['Fn_min_N'], r['Fn_max_N'], r['F_analytic_N'], r['max_jump_N'],
+			       r['x_no_contact_m']))
 
 
 if __name__ == '__main__':

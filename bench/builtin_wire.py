@@ -397,22 +397,44 @@ def _write_csv(path, header, rows):
 		w.writerows(rows)
 
 
+def _machine_line():
+	"""'cpu model; cores; date; load average' for the results directory."""
+	model = '?'
+	try:
+		with open('/proc/cpuinfo') as f:
+			for line in f:
+				if line.startswith('model name'):
+					model = line.split(':', 1)[1].strip()
+					break
+	except OSError:
+		pass
+	return '%s; %d cores; %s UTC; load average %s; YADE %s, %d thread(s)\n' % (model, os.cpu_count() or 0, time.strftime('%Y-%m-%d %H:%M', time.gmtime()),
+	                                                                      ' '.join('%.2f' % x for x in os.getloadavg()), yade.config.version,
+	                                                                      O.numThreads)
+
+
 def main(n_steps=500, reps=5):
 	res_dir = os.path.join(BENCH_DIR, 'results')
 	os.makedirs(res_dir, exist_ok=True)
+	with open(os.path.join(res_dir, 'builtin_wire_machine.txt'), 'w') as f:
+		f.write(_machine_line())
 	print('yade-flex bench: built-in WirePM reference, YADE %s, %d thread(s), %s' % (yade.config.version, O.numThreads, time.strftime('%Y-%m-%d %H:%M')))
 	print('\n%-26s %6s %6s %9s %9s %9s %9s %10s %10s %8s %7s' %
 	      ('case', 'nodes', 'links', 'kn_single', 'kn_twist', 'dt', 'us/step', 'us/link', 'peak F', 'u_peak', 'broken'))
 	trows, crows = [], []
-	for label, kw in (
-	        ('hexagonal type0 d3', dict(topology='hexagonal')),
-	        ('hexagonal type2 d3', dict(topology='hexagonal', wire_type=2, lambda_F=0.7)),
-	        ('rhombic TECCO-like d3', dict(topology='rhombic', height=0.572)),
+	for label, kw, do_pull in (
+	        ('hexagonal type0 d3', dict(topology='hexagonal'), True),
+	        ('hexagonal type2 d3', dict(topology='hexagonal', wire_type=2, lambda_F=0.7), True),
+	        ('rhombic TECCO-like d3', dict(topology='rhombic', height=0.572), True),
+	        ('hexagonal type0 3x1.5 m', dict(topology='hexagonal', width=3.0, height=1.5), False),
 	):
 		info = panel(**kw)
 		t = time_per_link_step(n_steps, reps)
-		info = panel(**kw)  # fresh panel for the pull
-		p = pull(velocity=0.1, max_steps=600000)
+		if do_pull:
+			info = panel(**kw)  # fresh panel for the pull
+			p = pull(velocity=0.1, max_steps=600000)
+		else:
+			p = {'peak_force': float('nan'), 'elongation_at_peak': float('nan'), 'broken_links': 0, 'curve': [], 'steps': 0, 'wall_s': 0.0}
 		print('%-26s %6d %6d %9.4g %9s %9.3g %9.1f %10.4f %10.1f %8.4f %7d' %
 		      (label, info['nodes'], info['links'], info['kn_single'] or 0, ('%.4g' % info['kn_twist']) if info['kn_twist'] else '-', info['dt'],
 		       t['us_per_step'], t['us_per_link_step'], p['peak_force'], p['elongation_at_peak'], p['broken_links']))
