@@ -620,7 +620,7 @@ def _rot_x(p, ang):
 def probe_cases():
 	"""The probe geometries: list of (name, description, points, triangles, feature point, outward direction
 	[, extra]); extra: {'centre_dist': f(R, r, overlap) -> centre distance from the feature point,
-	'factor': expected force / (kn overlap)}."""
+	'factor': expected force / (kn overlap), 'overlap': overlap [m] instead of PROBE_OVERLAP}."""
 	s3 = math.sqrt(3.0)
 	tri = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.5, 0.5 * s3, 0.0)]
 	cen = (0.5, 0.5 * s3 / 3.0, 0.0)
@@ -636,6 +636,11 @@ def probe_cases():
 		              [(0, 1, 2)], mid, (out[0], out[1], 1.0)))
 		cases.append(('free_edge%d%d_inplane' % (a, b), 'single facet, midpoint of edge %d-%d, outward in the facet plane' % (a, b), tri,
 		              [(0, 1, 2)], mid, out))
+	# the miss does not depend on the overlap or on the position along the edge
+	cases.append(('free_edge01_45_deep10mm', 'as free_edge01_45 with 10 mm overlap', tri, [(0, 1, 2)], (0.5, 0.0, 0.0), (0.0, -1.0, 1.0),
+	              {'overlap': 0.01}))
+	cases.append(('free_edge01_45_nearvertex', 'as free_edge01_45 at 0.1 % of the edge from vertex 1', tri, [(0, 1, 2)], (0.999, 0.0, 0.0),
+	              (0.0, -1.0, 1.0)))
 	for a in range(3):
 		out = tuple(tri[a][k] - cen[k] for k in range(3))
 		no = math.sqrt(out[0]**2 + out[1]**2)
@@ -671,6 +676,7 @@ def probe(name, points, triangles, feature, direction, overlap=PROBE_OVERLAP, st
 	direction) and |F| [N].  Analytic: kn_c * overlap with kn_c = contact_kn(E, R, E, r)."""
 	m, sph_mat = _probe_scene(points, triangles)
 	extra = extra or {}
+	overlap = extra.get('overlap', overlap)
 	place = overlap
 	if 'centre_dist' in extra:  # centre distance from the feature given (e.g. valley: overlap with each facet)
 		place = PROBE_R + PROBE_r - extra['centre_dist'](PROBE_R, PROBE_r, overlap)
