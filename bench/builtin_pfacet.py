@@ -314,6 +314,7 @@ def sheet(
         areal_mass=0.4,
         poisson=0.3,
         young=None,
+        density=None,
         young_contact=None,
         sphere_radius=0.1,
         sphere_mass=5.0,
@@ -332,7 +333,8 @@ def sheet(
 	size [m], thickness [m] (PFacet radius r = thickness/2), membrane_Et [N/m] target uniaxial
 	membrane stiffness, areal_mass [kg/m2], poisson [-] (of the bonds' CohFrictMat: only sets the twist
 	spring and the contact ks/kn ratio), young [Pa] bond modulus E_c (None: from membrane_Et by the
-	truss mapping in the file header), young_contact [Pa] modulus of the PFacets' FrictMat for contacts
+	truss mapping in the file header), density [kg/m3] node-material density (None: from areal_mass, see
+	the header; if given, areal_mass is ignored), young_contact [Pa] modulus of the PFacets' FrictMat for contacts
 	(None: = E_c), sphere_radius [m], sphere_mass [kg], sphere_young [Pa], drop_height [m], friction_deg [deg],
 	damping [-] Newton local damping, dt_factor [-], neighbour_pairs: keep YADE's default collider
 	behaviour (True) or mask PFacet-PFacet pairs out (False).
@@ -349,7 +351,7 @@ def sheet(
 		young_contact = young
 	pts, tris, border = grid_mesh(n, size)
 	total_len = sum(math.dist(pts[a], pts[b]) for a, b in _edges(tris))
-	rho_node = areal_mass * size * size / (math.pi * r * r * total_len)
+	rho_node = areal_mass * size * size / (math.pi * r * r * total_len) if density is None else density
 	_engines(gravity=(0, 0, -G_ACC), damping=damping, neighbour_pairs=neighbour_pairs)
 	node_mat, ext_mat = _mesh_materials(young, poisson, rho_node, young_contact, friction_deg)
 	sph_mat = _sphere_material(sphere_young, poisson, sphere_mass / (4.0 / 3.0 * math.pi * sphere_radius**3), friction_deg)
