@@ -9,6 +9,9 @@ namespace flex {
 
 namespace {
 	constexpr int kMaxPoints = 62; // envelope knots fit in fixed arrays of kMaxPoints + 2
+	// A strain computed from node positions carries round-off (~1e-16 / strain): a wire driven
+	// exactly to its last point must not break there.
+	constexpr double kRuptureRelTol = 1e-9;
 
 	std::string str(double v)
 	{
@@ -108,7 +111,7 @@ WireAxial wireAxial(double strain, double L0, double area, const WireCurve& c, c
 		double ke[kMaxPoints + 2], ks[kMaxPoints + 2];
 		const int    m     = wireEnvelopeKnots(c, d, ke, ks);
 		const double eLast = ke[m - 1];
-		r.rupture          = strain > eLast;
+		r.rupture          = strain > eLast * (1 + kRuptureRelTol);
 		const double e     = std::min(strain, eLast);
 		double       sOld, wOld, wNew;
 		envelopeAt(ke, ks, m, st.maxStrain, sOld, wOld);

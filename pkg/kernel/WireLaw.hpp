@@ -16,7 +16,8 @@
 //   e >= maxStrain : on the envelope, s = env(e); maxStrain = e; plasticStrain = e - s / Ew
 //   e <  maxStrain : elastic, s = max(0, Ew (e - plasticStrain)); tension only
 // so unloading and reloading follow the initial elastic slope Ew and rejoin the envelope at
-// maxStrain, where they left it. Rupture: e > d + e_n (past the last point). The link carries the
+// maxStrain, where they left it. Rupture: e > (d + e_n)(1 + 1e-9) (past the last point; the
+// margin absorbs the round-off of a strain computed from positions). The link carries the
 // last point's force at the step it breaks, and then stops interacting.
 //
 // Energy (per link, L0 A times the stress-strain quantities):

@@ -1,5 +1,6 @@
 // yade-flex adapter: element forces and the time stepper (GPL-2.0-or-later).
 #include "FlexCommon.hpp"
+#include "FlexWire.hpp"
 
 #include <core/Clump.hpp>
 #include <lib/factory/ClassFactory.hpp>
@@ -25,6 +26,7 @@ void FlexElementEngine::refresh()
 void FlexElementEngine::action()
 {
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
+	flexa::checkWireMaterials(scene);
 	const long              n = (long)cylinders.size();
 	std::vector<Body::id_t> broken;
 	const bool              energy = scene->trackEnergy;
@@ -55,9 +57,13 @@ void FlexElementEngine::action()
 		rest.Qj = c.Q2;
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
 		const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
-		const flex::BeamForces     f   = flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
-		c.plasticStrain                = st.plasticStrain;
-		c.hardeningVar                 = st.hardeningVar;
+		const flex::BeamForces     f   = mat->isWire()
+		              ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, (kin.L - c.L0) / c.L0))
+		              : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
+		if (!mat->isWire()) {
+			c.plasticStrain = st.plasticStrain;
+			c.hardeningVar  = st.hardeningVar;
+		}
 		c.axialForce                   = f.N;
 		c.strain                       = (kin.L - c.L0) / c.L0;
 		c.elasticEnergy                = f.elasticEnergy;
