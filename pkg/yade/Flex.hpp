@@ -192,6 +192,9 @@ REGISTER_SERIALIZABLE(Law2_FlexContactGeom_FrictPhys_CundallStrack);
 
 class FlexElementEngine : public GlobalEngine {
 	std::vector<Body::id_t> cylinders; // cache of element ids
+	// Ruptured element bodies, kept alive: a body created in Python holds a Python reference,
+	// and dropping the last one here, in O.run()'s worker thread without the GIL, aborts YADE.
+	std::vector<shared_ptr<Body>> rupturedBodies;
 	size_t                  cachedBodyCount = 0;
 	void                    refresh();
 

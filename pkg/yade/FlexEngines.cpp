@@ -107,6 +107,7 @@ void FlexElementEngine::action()
 			auto& el = static_cast<FlexNode&>(*(*scene->bodies)[nid]->shape).elements;
 			el.erase(std::remove(el.begin(), el.end(), id), el.end());
 		}
+		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see Flex.hpp)
 		scene->bodies->erase(id, false); // erases its interactions too: no ghost element
 		rupturedIds.push_back(id);
 		++nRuptured;

@@ -6,9 +6,15 @@ y along them) the bends sit on the lattice points (i a, k h) with i + k even, wh
 and h = Dy/2 are half the rhombus diagonals (TECCO G65/3: Dx = 83 mm, Dy = 143 mm). Spiral s
 (s = 0 .. nx-1) runs through the columns s and s+1: at row k it is in column
 s + ((s + k) mod 2). Cells are rhombi with diagonals Dx (along x) and Dy (along y); each leg (a
-cylinder) is sqrt(a^2 + h^2) long. The longitudinal direction of the product (roll length,
-the datasheet's 150 kN/m) is across the spirals, x: a section x = const cuts 2/Dy legs per metre,
-which with the wire's breaking force gives an upper bound of 2/Dy x fu A (175 kN/m for TECCO).
+cylinder) is sqrt(a^2 + h^2) long.
+
+Directions. Along the spirals (y) each spiral is one continuous wire: a section y = const cuts
+2/Dx legs per metre, an upper bound of 2/Dx fu A = 301 kN/m for TECCO G65/3. Across the spirals
+(x) the load passes from spiral to spiral through the knots, and the rhombi open and close as
+a mechanism. We take the datasheet's longitudinal direction, 150 kN/m, to be along the
+spirals. In the model, across the spirals the panel is a mechanism: 36 kN/m at 74% elongation,
+measured with scripts/tensile_mesh.py. That is incompatible with a direction rated 150 kN/m.
+This is a judgement: the datasheet does not say which way the spirals run.
 
 Knot model: the two hooked bends of neighbouring spirals share ONE node. It transmits force
 both ways, as the hook does in tension, and it costs nothing to detect. The legs that meet at
@@ -32,9 +38,12 @@ TECCO_G65_DY = 0.143  # [m] rhombus diagonal along the spirals (transverse direc
 TECCO_G65_WIRE_RADIUS = 0.0015  # [m] d = 3 mm
 TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrugg datasheet; DESIGN.md)
 
-# Distortion of the mesh links (Thoeni et al. 2013 "type 2"). Chosen by the calibration in
-# scripts/tensile_mesh.py (see README: calibration on the longitudinal strength).
-TECCO_MESH_CALIBRATION = dict(slack_scale=0.04, force_ratio=0.5)
+# Distortion of the mesh links (Thoeni et al. 2013 "type 2"), NOT fitted to the mesh datasheet:
+# the slack of a link is at most the play of a knot, one wire diameter over a leg,
+# d / sqrt(a^2 + h^2) = 3 / 82.7 = 0.036, reached through one soft segment (force ratio 1, as
+# WirePM's default). The datasheet's 150 kN/m is then only a check
+# (scripts/tensile_mesh.py: 128 kN/m, -14%).
+TECCO_MESH_CALIBRATION = dict(slack_scale=0.036, force_ratio=1.0)
 
 
 def _lattice(nx, ny):
@@ -46,22 +55,23 @@ def _spiral_column(s, k):
     return s + ((s + k) % 2)
 
 
-def _build(nx, ny, position, material, wire_radius, wrap):
-    """Nodes at position(i, k); spirals as chains of cylinders. wrap: column nx is column 0."""
+def _build(nx, ny, position, material, wire_radius, wrap=""):
+    """Nodes at position(i, k); spirals as chains of cylinders. wrap 'x': column nx is column 0
+    (the last spiral hooks into the first); 'y': row ny is row 0 (each spiral closes on itself)."""
     r = B._positive("wire radius", wire_radius)
     mat = B._material(material)
     ids = {}
     for (i, k) in _lattice(nx, ny):
-        if wrap and i == nx:
+        if (wrap == "x" and i == nx) or (wrap == "y" and k == ny):
             continue
         ids[(i, k)] = B.node(position(i, k), r, mat)
-    col = (lambda i: i % nx) if wrap else (lambda i: i)
+    key = lambda i, k: (i % nx if wrap == "x" else i, k % ny if wrap == "y" else k)
     spirals = []
     for s in range(nx):
         legs = []
         for k in range(ny):
-            a = ids[(col(_spiral_column(s, k)), k)]
-            b = ids[(col(_spiral_column(s, k + 1)), k + 1)]
+            a = ids[key(_spiral_column(s, k), k)]
+            b = ids[key(_spiral_column(s, k + 1), k + 1)]
             legs.append(B.cylinder(a, b, r, mat))
         spirals.append(legs)
     return ids, spirals
@@ -85,7 +95,7 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     o = B.check_finite("panel origin", origin)
     a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
     nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
-    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius, wrap=False)
+    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
     edges = dict(left=[ids[p] for p in sorted(ids) if p[0] == 0], right=[ids[p] for p in sorted(ids) if p[0] == nx],
                  bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny])
     return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges,
@@ -93,31 +103,47 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
 
 
 def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
-                        center=(0, 0, 0)):
+                        center=(0, 0, 0), spirals="around"):
     """Chain-link mesh rolled into a vertical cylinder (axis z, bottom at center.z) of the
-    given diameter and height [m]: spirals vertical, the longitudinal direction around.
+    given diameter and height [m].
 
-    The seam: the mesh is closed by hooking the last spiral into the first, like every other
-    knot (the first column's nodes are shared), so the seam is as strong as the mesh. The
-    number of spirals around is even (lattice parity) and the cell width is adjusted so that
-    the diameter is exact: params give the built dx. Returns the dict of chain_link_panel with
-    edges bottom/top and seam (node ids of the seam column)."""
+    spirals='around': the spirals run around the module (each closes on itself, the strong
+    direction carries the hoop force of the fill); the seam is where each spiral's two ends
+    are joined, here by a shared node (as strong as the wire). spirals='vertical': the spirals
+    run up the module and the seam is the last spiral hooked into the first, like every other
+    knot. The lattice needs an even number of half-cells around, and the cell is stretched so
+    that the diameter is exact: params give the built dx, dy.
+    Returns the dict of chain_link_panel, edges bottom/top and seam (node ids of the seam)."""
     c = B.check_finite("cylinder center", center)
     D = B._positive("diameter", diameter)
-    a0, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
-    nx = _counts(math.pi * D, a0, "circumference", even=True)
-    ny = _counts(height, h, "mesh height")
+    if spirals not in ("around", "vertical"):
+        raise ValueError(f"spirals must be 'around' or 'vertical', got {spirals!r}")
+    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
     R = 0.5 * D
+    if spirals == "vertical":  # x (across the spirals) around, y up
+        nx, ny = _counts(math.pi * D, a, "circumference", even=True), _counts(height, h, "mesh height")
+        a = math.pi * D / nx
+        angle_height = lambda i, k: (2 * math.pi * i / nx, k * h)
+        wrap, seam_of = "x", lambda p: p[0] == 0
+        level = lambda p: p[1]
+    else:  # y (along the spirals) around, x up
+        nx, ny = _counts(height, a, "mesh height"), _counts(math.pi * D, h, "circumference", even=True)
+        h = math.pi * D / ny
+        angle_height = lambda i, k: (2 * math.pi * k / ny, i * a)
+        wrap, seam_of = "y", lambda p: p[1] == 0
+        level = lambda p: p[0]
 
     def pos(i, k):
-        phi = 2 * math.pi * i / nx
-        return c + Vector3(R * math.cos(phi), R * math.sin(phi), k * h)
+        phi, z = angle_height(i, k)
+        return c + Vector3(R * math.cos(phi), R * math.sin(phi), z)
 
-    ids, spirals = _build(nx, ny, pos, material, wire_radius, wrap=True)
-    edges = dict(bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny],
-                 seam=[ids[p] for p in sorted(ids) if p[0] == 0])
-    return dict(nodes=ids, cylinders=[cy for sp in spirals for cy in sp], spirals=spirals, edges=edges,
-                params=dict(diameter=D, height=ny * h, dx=2 * math.pi * R / nx * 2, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius))
+    ids, sp = _build(nx, ny, pos, material, wire_radius, wrap=wrap)
+    top = max(level(p) for p in ids)
+    edges = dict(bottom=[ids[p] for p in sorted(ids) if level(p) == 0], top=[ids[p] for p in sorted(ids) if level(p) == top],
+                 seam=[ids[p] for p in sorted(ids) if seam_of(p)])
+    return dict(nodes=ids, cylinders=[cy for s_ in sp for cy in s_], spirals=sp, edges=edges,
+                params=dict(diameter=D, height=(nx * a if spirals == "around" else ny * h), dx=2 * a, dy=2 * h, nx=nx, ny=ny,
+                            wire_radius=wire_radius, spirals=spirals))
 
 
 def _sorted_around(node_ids):
