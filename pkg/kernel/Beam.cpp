@@ -110,8 +110,12 @@ BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, co
 
 BeamForces beamForces(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialLaw& law, AxialState& st)
 {
+	return beamForcesWithAxial(k, rest, s, axialForce((k.L - rest.L0) / rest.L0, s.EA, rest.L0, law, st));
+}
+
+BeamForces beamForcesWithAxial(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialResult& ax)
+{
 	BeamForces f;
-	const AxialResult ax = axialForce((k.L - rest.L0) / rest.L0, s.EA, rest.L0, law, st);
 	f.N                  = ax.N;
 	f.plasticWork        = ax.plasticWork;
 	f.rupture            = ax.rupture;

@@ -90,6 +90,9 @@ struct BeamForces {
 	bool   rupture       = false;
 };
 BeamForces beamForces(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialLaw& law, AxialState& state);
+/// The same with the axial response given (another axial law, e.g. the wire law in WireLaw.hpp):
+/// bending and twist from the section, axial force, energy and rupture from `axial`.
+BeamForces beamForcesWithAxial(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialResult& axial);
 
 /// Local 12x12 Euler-Bernoulli stiffness, element axis = local x, DOF order
 /// (u_i, theta_i, u_j, theta_j).

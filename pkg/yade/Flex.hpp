@@ -48,8 +48,12 @@ REGISTER_SERIALIZABLE(FlexNode);
 class FlexMat : public FrictMat {
 public:
 	virtual ~FlexMat() = default;
+	/// Whether the axial law is the chain-link wire law (pkg/kernel/WireLaw.hpp).
+	bool isWire() const { return !wireStrain.empty() || !wireStress.empty(); }
+	/// Empty if the wire parameters are valid (or unused), else what is wrong with them.
+	std::string wireError() const;
 	// clang-format off
-	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexMat, FrictMat,
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexMat, FrictMat,
 		"Material of deformable elements (yade-flex). ``young`` is Young's modulus of the element and also enters the contact stiffness; ``poisson`` keeps FrictMat's meaning (ks/kn of contacts); the beam's shear modulus uses :yref:`FlexMat.beamPoisson`.",
 		((Real, beamPoisson, 0.3, , "Poisson ratio of the element material for G = E/(2(1+nu)) [-]"))
 		((Real, bendingFactor, 1.0, , "Scale of bending and torsion stiffness relative to a solid bar [-] (ropes: well below 1)"))
@@ -57,8 +61,14 @@ public:
 		((Real, yieldStress, std::numeric_limits<Real>::infinity(), , "Axial yield stress [Pa]; plastic elongation beyond it"))
 		((Real, hardening, 0.0, , "Post-yield axial stiffness as a fraction of EA [-]"))
 		((Real, tensileStrength, std::numeric_limits<Real>::infinity(), , "Bond breaks when the axial stress reaches it [Pa]"))
-		((Real, ruptureStrain, std::numeric_limits<Real>::infinity(), , "Bond breaks at this total axial strain [-]")),
-		createIndex();
+		((Real, ruptureStrain, std::numeric_limits<Real>::infinity(), , "Bond breaks at this total axial strain [-]"))
+		((vector<Real>, wireStrain, , , "Chain-link wire law (pkg/kernel/WireLaw.hpp): strains of the stress-strain points, strictly increasing, > 0; the origin is implied [-]. Non-empty: the axial law is the wire law (tension only, elastic unloading with wireStress[0]/wireStrain[0], rupture past the last point); yieldStress, hardening, tensileStrength and ruptureStrain must stay unset. Never modified by the simulation."))
+		((vector<Real>, wireStress, , , "Stresses of the stress-strain points of the wire law, > 0 [Pa]"))
+		((Real, wireSlackScale, 0.0, , "Scale of the stochastic slack strain of each link: slack = wireSlackScale * xi, xi symmetric triangular on [0, 1] (lambda_u of [Thoeni2013]_) [-]; 0: no distortion"))
+		((Real, wireForceRatio, 1.0, , "Force ratio of the soft initial branch of a distorted link, in (0, 1] (lambda_F of [Thoeni2013]_) [-]"))
+		((int, wireSeed, 12345, , "Seed of the slack draw; each link's draw is a hash of the seed and its two node ids, so it does not depend on thread count, body order at run time or O.reset() [-]")),
+		createIndex();,
+		.def("wireError", &FlexMat::wireError, "Empty string if the wire-law parameters are valid (or unused), else what is wrong with them.")
 	);
 	// clang-format on
 	REGISTER_CLASS_INDEX(FlexMat, FrictMat);
@@ -90,7 +100,9 @@ public:
 		((Real, hardeningVar, 0, Attr::readonly, "Accumulated plastic strain [-]"))
 		((Real, axialForce, 0, Attr::readonly, "Axial force, tension positive [N]"))
 		((Real, strain, 0, Attr::readonly, "Axial strain (L-L0)/L0 [-]"))
-		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]")),
+		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]"))
+		((Real, maxStrain, 0, Attr::readonly, "Wire law: largest axial strain reached on the curve [-]"))
+		((Real, wireSlack, 0, Attr::readonly, "Wire law: slack strain of this link, drawn once at attach from FlexMat.wireSeed and the node ids [-]")),
 		createIndex();,
 		.def("attach", &FlexCylinder::attach, (boost::python::arg("id")), "Bind to the nodes (called by yadeflex.cylinder).")
 	);
@@ -184,6 +196,9 @@ REGISTER_SERIALIZABLE(Law2_FlexContactGeom_FrictPhys_CundallStrack);
 
 class FlexElementEngine : public GlobalEngine {
 	std::vector<Body::id_t> cylinders, facets; // cache of element ids
+	// Ruptured element bodies, kept alive: a body created in Python holds a Python reference,
+	// and dropping the last one here, in O.run()'s worker thread without the GIL, aborts YADE.
+	std::vector<shared_ptr<Body>> rupturedBodies;
 	size_t                  cachedBodyCount = 0;
 	void                    refresh();
 	void                    facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)

@@ -1,5 +1,6 @@
 // yade-flex adapter: element forces and the time stepper (GPL-2.0-or-later).
 #include "FlexCommon.hpp"
+#include "FlexWire.hpp"
 
 #include <core/Clump.hpp>
 #include <lib/factory/ClassFactory.hpp>
@@ -30,6 +31,7 @@ void FlexElementEngine::refresh()
 void FlexElementEngine::action()
 {
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
+	flexa::checkWireMaterials(scene);
 	const long              n = (long)cylinders.size();
 	std::vector<Body::id_t> broken;
 	const bool              energy = scene->trackEnergy;
@@ -60,9 +62,13 @@ void FlexElementEngine::action()
 		rest.Qj = c.Q2;
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
 		const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
-		const flex::BeamForces     f   = flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
-		c.plasticStrain                = st.plasticStrain;
-		c.hardeningVar                 = st.hardeningVar;
+		const flex::BeamForces     f   = mat->isWire()
+		              ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, (kin.L - c.L0) / c.L0))
+		              : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
+		if (!mat->isWire()) {
+			c.plasticStrain = st.plasticStrain;
+			c.hardeningVar  = st.hardeningVar;
+		}
 		c.axialForce                   = f.N;
 		c.strain                       = (kin.L - c.L0) / c.L0;
 		c.elasticEnergy                = f.elasticEnergy;
@@ -108,6 +114,7 @@ void FlexElementEngine::action()
 			auto& el = static_cast<FlexNode&>(*(*scene->bodies)[nid]->shape).elements;
 			el.erase(std::remove(el.begin(), el.end(), id), el.end());
 		}
+		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see Flex.hpp)
 		scene->bodies->erase(id, false); // erases its interactions too: no ghost element
 		rupturedIds.push_back(id);
 		++nRuptured;

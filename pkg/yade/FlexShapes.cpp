@@ -1,6 +1,8 @@
 // yade-flex adapter: shapes, material, geometry, bound (GPL-2.0-or-later).
 #include "FlexCommon.hpp"
 
+#include <kernel/WireLaw.hpp>
+
 #include <lib/factory/ClassFactory.hpp>
 
 #include <sstream>
@@ -17,6 +19,16 @@ namespace {
 		throw std::invalid_argument(os.str());
 	}
 	bool finite(const Vector3r& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+}
+
+std::string FlexMat::wireError() const
+{
+	if (!isWire()) return "";
+	std::string e = flex::wireCurveError(wireStrain, wireStress);
+	if (e.empty()) e = flex::wireDistortionError(wireSlackScale, wireForceRatio);
+	if (e.empty() && (std::isfinite(yieldStress) || hardening != 0 || std::isfinite(tensileStrength) || std::isfinite(ruptureStrain)))
+		e = "wire law: the curve defines yield and rupture; leave yieldStress, hardening, tensileStrength and ruptureStrain unset";
+	return e;
 }
 
 void FlexCylinder::attach(int selfId)
@@ -41,6 +53,8 @@ void FlexCylinder::attach(int selfId)
 	if (!(mat->density > 0) || !std::isfinite(mat->density)) bad(selfId, "material density must be positive and finite");
 	if (!(mat->young > 0) || !std::isfinite(mat->young)) bad(selfId, "material young must be positive and finite");
 	if (!(mat->bendingFactor >= 0)) bad(selfId, "material bendingFactor must be >= 0");
+	const std::string wireErr = mat->wireError();
+	if (!wireErr.empty()) bad(selfId, "material '" + mat->label + "': " + wireErr);
 	State&          s1 = *(*scene->bodies)[node1]->state;
 	State&          s2 = *(*scene->bodies)[node2]->state;
 	const Vector3r  d  = s2.pos - s1.pos;
@@ -53,7 +67,14 @@ void FlexCylinder::attach(int selfId)
 	const flex::NodeShare sh  = flex::cylinderNodeShare(mat->density, radius, L0);
 	massShare                 = sh.mass;
 	inertiaShare              = sh.inertia;
-	omega2                    = flex::beamMaxOmega2(flexa::section(*mat, radius), L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
+	flex::BeamSection sec     = flexa::section(*mat, radius);
+	if (mat->isWire()) { // the wire's elastic slope may exceed young: the time step must see it
+		sec.EA      = std::max(sec.EA, M_PI * radius * radius * mat->wireStress[0] / mat->wireStrain[0]);
+		maxStrain   = 0;
+		plasticStrain = 0;
+		wireSlack   = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
+	}
+	omega2 = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
 	for (State* s : { &s1, &s2 }) {
 		s->mass += sh.mass;
 		s->inertia += Vector3r::Constant(sh.inertia);

@@ -14,6 +14,8 @@ from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
 from .membrane import (membrane_material, geotextile, facet, triangle_mesh, sheet, lining, read_mesh, mesh_file,
                        membrane_state)
 from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on
+from .wire import wire_material, tecco_wire
+from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
@@ -21,4 +23,5 @@ __all__ = [
     "membrane_material", "geotextile", "facet", "triangle_mesh", "sheet", "lining", "read_mesh", "mesh_file",
     "membrane_state",
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
+    "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring",
 ]

@@ -33,6 +33,9 @@ def check_finite(name, p):
 
 def _material(material):
     if isinstance(material, FlexMat):
+        err = material.wireError()
+        if err:
+            raise ValueError(f"material '{material.label}': {err}")
         if material.id < 0:
             O.materials.append(material)
         return material
@@ -41,7 +44,7 @@ def _material(material):
             if m.label == material:
                 if not isinstance(m, FlexMat):
                     raise ValueError(f"material '{material}' is a {type(m).__name__}, not a FlexMat")
-                return m
+                return _material(m)
         raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
     raise ValueError(f"material must be a FlexMat or the label of one, got {material!r}")
 

@@ -1,0 +1,167 @@
+"""Chain-link (TECCO-type) wire mesh: planar panels and cylinders, rings on its edges.
+
+Geometry. A chain-link mesh is a row of spiral wires, each a flattened zigzag along its axis,
+every bend hooked into the bend of the neighbouring spiral. In the plane (x across the spirals,
+y along them) the bends sit on the lattice points (i a, k h) with i + k even, where a = Dx/2
+and h = Dy/2 are half the rhombus diagonals (TECCO G65/3: Dx = 83 mm, Dy = 143 mm). Spiral s
+(s = 0 .. nx-1) runs through the columns s and s+1: at row k it is in column
+s + ((s + k) mod 2). Cells are rhombi with diagonals Dx (along x) and Dy (along y); each leg (a
+cylinder) is sqrt(a^2 + h^2) long.
+
+Directions. Along the spirals (y) each spiral is one continuous wire: a section y = const cuts
+2/Dx legs per metre, an upper bound of 2/Dx fu A = 301 kN/m for TECCO G65/3. Across the spirals
+(x) the load passes from spiral to spiral through the knots, and the rhombi open and close as
+a mechanism. We take the datasheet's longitudinal direction, 150 kN/m, to be along the
+spirals. In the model, across the spirals the panel is a mechanism: 36 kN/m at 74% elongation,
+measured with scripts/tensile_mesh.py. That is incompatible with a direction rated 150 kN/m.
+This is a judgement: the datasheet does not say which way the spirals run.
+
+Knot model: the two hooked bends of neighbouring spirals share ONE node. It transmits force
+both ways, as the hook does in tension, and it costs nothing to detect. The legs that meet at
+a knot are bonded neighbours, so they never contact each other. The price: the node also
+carries moments between the two spirals, which a real hook does not, so the knot is a rigid
+joint rather than a hinge. The moments are elastic bending of a 3 mm wire (about 4EI/L = 38 N m
+per radian per leg end), which is small against the axial forces (kN).
+
+One cylinder per leg (knot to knot), so each leg is one link of the wire law, with its own
+stochastic slack (see yadeflex.wire).
+"""
+import math
+
+from yade import O
+from yade.minieigenHP import Vector3
+
+from . import builders as B
+
+TECCO_G65_DX = 0.083  # [m] rhombus diagonal across the spirals (longitudinal direction)
+TECCO_G65_DY = 0.143  # [m] rhombus diagonal along the spirals (transverse direction)
+TECCO_G65_WIRE_RADIUS = 0.0015  # [m] d = 3 mm
+TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrugg datasheet; DESIGN.md)
+
+# Distortion of the mesh links (Thoeni et al. 2013 "type 2"), NOT fitted to the mesh datasheet:
+# the slack of a link is at most the play of a knot, one wire diameter over a leg,
+# d / sqrt(a^2 + h^2) = 3 / 82.7 = 0.036, reached through one soft segment (force ratio 1, as
+# WirePM's default). The datasheet's 150 kN/m is then only a check
+# (scripts/tensile_mesh.py: 128 kN/m, -14%).
+TECCO_MESH_CALIBRATION = dict(slack_scale=0.036, force_ratio=1.0)
+
+
+def _lattice(nx, ny):
+    """Lattice points (i, k), i + k even, of a mesh with nx spirals and ny rows of legs."""
+    return [(i, k) for k in range(ny + 1) for i in range(nx + 1) if (i + k) % 2 == 0]
+
+
+def _spiral_column(s, k):
+    return s + ((s + k) % 2)
+
+
+def _build(nx, ny, position, material, wire_radius, wrap=""):
+    """Nodes at position(i, k); spirals as chains of cylinders. wrap 'x': column nx is column 0
+    (the last spiral hooks into the first); 'y': row ny is row 0 (each spiral closes on itself)."""
+    r = B._positive("wire radius", wire_radius)
+    mat = B._material(material)
+    ids = {}
+    for (i, k) in _lattice(nx, ny):
+        if (wrap == "x" and i == nx) or (wrap == "y" and k == ny):
+            continue
+        ids[(i, k)] = B.node(position(i, k), r, mat)
+    key = lambda i, k: (i % nx if wrap == "x" else i, k % ny if wrap == "y" else k)
+    spirals = []
+    for s in range(nx):
+        legs = []
+        for k in range(ny):
+            a = ids[key(_spiral_column(s, k), k)]
+            b = ids[key(_spiral_column(s, k + 1), k + 1)]
+            legs.append(B.cylinder(a, b, r, mat))
+        spirals.append(legs)
+    return ids, spirals
+
+
+def _counts(length, pitch, what, even=False):
+    n = int(round(B._positive(what, length) / pitch))
+    if even and n % 2:
+        n += 1
+    if n < 2:
+        raise ValueError(f"{what} {length!r} m is shorter than two half-cells ({2 * pitch} m)")
+    return n
+
+
+def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
+                     origin=(0, 0, 0)):
+    """Planar chain-link panel in the plane z = origin.z: x across the spirals (longitudinal,
+    width [m]), y along them (height [m]); rhombus diagonals dx, dy [m]. The sizes are rounded
+    to whole half-diagonals (the returned params give the built ones).
+    Returns dict(nodes={(i, k): id}, cylinders, spirals, edges, params)."""
+    o = B.check_finite("panel origin", origin)
+    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
+    nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
+    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
+    edges = dict(left=[ids[p] for p in sorted(ids) if p[0] == 0], right=[ids[p] for p in sorted(ids) if p[0] == nx],
+                 bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny])
+    return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges,
+                params=dict(width=nx * a, height=ny * h, dx=2 * a, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius))
+
+
+def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
+                        center=(0, 0, 0), spirals="around"):
+    """Chain-link mesh rolled into a vertical cylinder (axis z, bottom at center.z) of the
+    given diameter and height [m].
+
+    spirals='around': the spirals run around the module (each closes on itself, the strong
+    direction carries the hoop force of the fill); the seam is where each spiral's two ends
+    are joined, here by a shared node (as strong as the wire). spirals='vertical': the spirals
+    run up the module and the seam is the last spiral hooked into the first, like every other
+    knot. The lattice needs an even number of half-cells around, and the cell is stretched so
+    that the diameter is exact: params give the built dx, dy.
+    Returns the dict of chain_link_panel, edges bottom/top and seam (node ids of the seam)."""
+    c = B.check_finite("cylinder center", center)
+    D = B._positive("diameter", diameter)
+    if spirals not in ("around", "vertical"):
+        raise ValueError(f"spirals must be 'around' or 'vertical', got {spirals!r}")
+    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
+    R = 0.5 * D
+    if spirals == "vertical":  # x (across the spirals) around, y up
+        nx, ny = _counts(math.pi * D, a, "circumference", even=True), _counts(height, h, "mesh height")
+        a = math.pi * D / nx
+        angle_height = lambda i, k: (2 * math.pi * i / nx, k * h)
+        wrap, seam_of = "x", lambda p: p[0] == 0
+        level = lambda p: p[1]
+    else:  # y (along the spirals) around, x up
+        nx, ny = _counts(height, a, "mesh height"), _counts(math.pi * D, h, "circumference", even=True)
+        h = math.pi * D / ny
+        angle_height = lambda i, k: (2 * math.pi * k / ny, i * a)
+        wrap, seam_of = "y", lambda p: p[1] == 0
+        level = lambda p: p[0]
+
+    def pos(i, k):
+        phi, z = angle_height(i, k)
+        return c + Vector3(R * math.cos(phi), R * math.sin(phi), z)
+
+    ids, sp = _build(nx, ny, pos, material, wire_radius, wrap=wrap)
+    top = max(level(p) for p in ids)
+    edges = dict(bottom=[ids[p] for p in sorted(ids) if level(p) == 0], top=[ids[p] for p in sorted(ids) if level(p) == top],
+                 seam=[ids[p] for p in sorted(ids) if seam_of(p)])
+    return dict(nodes=ids, cylinders=[cy for s_ in sp for cy in s_], spirals=sp, edges=edges,
+                params=dict(diameter=D, height=(nx * a if spirals == "around" else ny * h), dx=2 * a, dy=2 * h, nx=nx, ny=ny,
+                            wire_radius=wire_radius, spirals=spirals))
+
+
+def _sorted_around(node_ids):
+    """Node ids sorted by angle around their centroid (an edge of a cylindrical mesh)."""
+    ps = [O.bodies[i].state.pos for i in node_ids]
+    cx = sum(p[0] for p in ps) / len(ps)
+    cy = sum(p[1] for p in ps) / len(ps)
+    return [i for _, i in sorted((math.atan2(p[1] - cy, p[0] - cx), i) for i, p in zip(node_ids, ps))]
+
+
+def edge_ring(edge_nodes, bar_radius, material, closed=True):
+    """A steel ring (or bar, closed=False) through the mesh edge nodes: the mesh wires wrap
+    around it, modelled as shared nodes (the ring's cylinders and the mesh legs meet at the
+    edge nodes). bar_radius [m] (TECCO module rings: 5 mm). Returns the ring's cylinder ids."""
+    if len(edge_nodes) < (3 if closed else 2):
+        raise ValueError(f"a ring needs at least {3 if closed else 2} edge nodes, got {len(edge_nodes)}")
+    nodes = _sorted_around(edge_nodes) if closed else list(edge_nodes)
+    cyls = [B.cylinder(nodes[k], nodes[k + 1], bar_radius, material) for k in range(len(nodes) - 1)]
+    if closed:
+        cyls.append(B.cylinder(nodes[-1], nodes[0], bar_radius, material))
+    return cyls

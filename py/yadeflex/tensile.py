@@ -1,0 +1,215 @@
+"""Tensile-test scenes and drivers, defined once, used by scripts/tensile_*.py and the tests.
+
+Every driver resets O, builds its scene with unit-annotated parameters, runs it and returns a
+dict with the measured curve (lists) and the parameters used.
+"""
+import math
+
+from yade import O
+from yade.minieigenHP import Vector3
+
+from . import builders as B
+from .scene import engines
+
+
+def single_wire(material, length=0.1, radius=0.0015, segments=1, damping=0.0):
+    """A straight wire (or rope, bar) along x, clamped at node 0; the last node is driven (all
+    its DOFs blocked) by drive_strains. length, radius [m]; damping [-] Cundall's local damping
+    of the free inner nodes (segments > 1). Returns dict(nodes, cylinders, driven, params)."""
+    O.reset()
+    nodes, cyls = B.chain([(0, 0, 0), (length, 0, 0)], radius, material, segments=segments, fixed=[0, segments])
+    O.engines = engines(gravity=(0, 0, 0), damping=damping)
+    return dict(nodes=nodes, cylinders=cyls, driven=nodes[-1],
+                params=dict(length=length, radius=radius, segments=segments, damping=damping))
+
+
+def drive_strains(scene, strains, steps_per_unit_strain=2e5, dt=None):
+    """Displacement control of `single_wire`: move the driven node so that the wire's total
+    strain goes linearly through `strains` (each a target reached exactly, at a step end).
+    Between targets the node moves at constant velocity over ceil(|de| x steps_per_unit_strain)
+    steps. Returns lists (strain, force of the first cylinder or None once it ruptured, or the
+    force on the driven node if `scene` has several segments, iteration)."""
+    L = scene["params"]["length"]
+    d = O.bodies[scene["driven"]]
+    c0 = scene["cylinders"][0]
+    O.step()  # time step and collider set up
+    if dt is not None:
+        O.dt = dt
+    out_e, out_f, out_i = [], [], []
+    e_now = (d.state.pos[0] - L) / L
+    for target in strains:
+        n = max(1, int(math.ceil(abs(target - e_now) * steps_per_unit_strain)))
+        x0, x1 = L * (1 + e_now), L * (1 + target)
+        for k in range(1, n + 1):
+            # position set exactly (no accumulated round-off), velocity consistent with it
+            d.state.pos = Vector3(x0 + (x1 - x0) * k / n, 0, 0)
+            d.state.vel = Vector3(0, 0, 0)
+            O.step()
+            b = O.bodies[c0]
+            out_e.append((d.state.pos[0] - L) / L)
+            if len(scene["cylinders"]) > 1:
+                out_f.append(-O.forces.f(scene["driven"])[0])
+            else:
+                out_f.append(b.shape.axialForce if b is not None else None)
+            out_i.append(O.iter)
+        e_now = target
+    return out_e, out_f, out_i
+
+
+def _edge_force(ids, axis):
+    return sum(O.forces.f(i)[axis] for i in ids)
+
+
+def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5, damping=0.2, seed=12345, material=None,
+                     clamp="pinned"):
+    """TECCO G65/3 panel (yadeflex.mesh.chain_link_panel) clamped on two opposite edges; one
+    edge held, the other driven outwards at `speed` [m/s] (all its DOFs blocked).
+    direction: 'longitudinal' (pull along the spirals, y: the datasheet's 150 kN/m, see
+    yadeflex.mesh) or 'transverse' (across the spirals, x). width, height [m] along x, y; damping [-] Cundall's
+    local damping (quasi-static); clamp: 'pinned' (edge knots held in translation, free to turn,
+    as wires wrapped around a clamping bar) or 'fixed'. Returns dict(held, driven, axis, length, loaded_width, ...)."""
+    from .mesh import chain_link_panel
+    from .wire import tecco_wire
+    if direction not in ("longitudinal", "transverse"):
+        raise ValueError(f"direction must be 'longitudinal' or 'transverse', got {direction!r}")
+    O.reset()
+    mat = material if material is not None else tecco_wire(seed=seed)
+    p = chain_link_panel(width, height, mat)
+    axis = 1 if direction == "longitudinal" else 0
+    held, driven = (p["edges"]["left"], p["edges"]["right"]) if axis == 0 else (p["edges"]["bottom"], p["edges"]["top"])
+    if clamp not in ("pinned", "fixed"):
+        raise ValueError(f"clamp must be 'pinned' (translations held, wires free to turn) or 'fixed', got {clamp!r}")
+    dofs = "xyz" if clamp == "pinned" else "xyzXYZ"
+    B.fix(held, dofs)
+    B.fix(driven, dofs)
+    v = Vector3(0, 0, 0)
+    v[axis] = B._positive("speed", speed)
+    for i in driven:
+        O.bodies[i].state.vel = v
+    O.engines = engines(gravity=(0, 0, 0), damping=damping)
+    length = p["params"]["width"] if axis == 0 else p["params"]["height"]
+    loaded_width = p["params"]["height"] if axis == 0 else p["params"]["width"]
+    p.update(held=held, driven=driven, axis=axis, length=length, loaded_width=loaded_width, material=mat,
+             params=dict(p["params"], direction=direction, clamp=clamp, speed=speed, damping=damping, seed=seed,
+                         slack_scale=mat.wireSlackScale, force_ratio=mat.wireForceRatio))
+    return p
+
+
+def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
+    """Run `mesh_panel_scene` until links have ruptured and the force fell below
+    stop_fraction x its peak, or the elongation reaches max_elongation [-]. Returns dict with lists elongation [-]
+    and force per metre of loaded width [N/m] (mean of the driven and the held edge), the peak
+    and the elongation at the peak, ruptured links and the engines' time."""
+    ax, L, w = scene["axis"], scene["length"], scene["loaded_width"]
+    x0 = O.bodies[scene["driven"][0]].state.pos[ax]
+    el, fm, unbalance = [], [], []
+    peak, e_peak = 0.0, 0.0
+    eng = next(x for x in O.engines if type(x).__name__ == "FlexElementEngine")
+    O.step()
+    while True:
+        O.run(chunk, True)
+        e = (O.bodies[scene["driven"][0]].state.pos[ax] - x0) / L
+        f_drv = -_edge_force(scene["driven"], ax)
+        f_hld = _edge_force(scene["held"], ax)
+        f = 0.5 * (f_drv + f_hld) / w
+        el.append(e)
+        fm.append(f)
+        unbalance.append(abs(f_drv - f_hld) / max(abs(f_drv), abs(f_hld), 1e-30))
+        if f > peak:
+            peak, e_peak = f, e
+        if (eng.nRuptured > 0 and f < stop_fraction * peak) or e >= max_elongation:
+            break
+    k_peak = fm.index(peak)
+    return dict(elongation=el, force_per_m=fm, peak=peak, elongation_at_peak=e_peak, ruptured=eng.nRuptured,
+                unbalance_at_peak=unbalance[k_peak], iterations=O.iter, dt=O.dt)
+
+
+def write_curve(path_base, columns, xlabel, ylabel, title, x="elongation", y="force", reference=None, params=None):
+    """Write path_base.csv (the columns, dict name -> list, in order) and path_base.png (y
+    against x; reference: dict label -> (x, y) point or ('h', y) horizontal line), plus
+    path_base.json with params. Returns the paths."""
+    import csv
+    import json
+    import os
+    os.makedirs(os.path.dirname(path_base) or ".", exist_ok=True)
+    names = list(columns)
+    with open(path_base + ".csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(names)
+        for row in zip(*(columns[n] for n in names)):
+            w.writerow(["" if v is None else repr(float(v)) for v in row])
+    if params is not None:
+        with open(path_base + ".json", "w") as fh:
+            json.dump(params, fh, indent=1, sort_keys=True, default=str)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4))
+    xs = [a for a, b in zip(columns[x], columns[y]) if b is not None]
+    ys = [b for b in columns[y] if b is not None]
+    ax.plot(xs, ys, "-", lw=1.2, label="yade-flex")
+    for label, ref in (reference or {}).items():
+        if ref[0] == "h":
+            ax.axhline(ref[1], color="k", ls="--", lw=0.8, label=label)
+        else:
+            ax.plot([ref[0]], [ref[1]], "o", label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, lw=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path_base + ".png", dpi=110)
+    plt.close(fig)
+    return path_base + ".csv", path_base + ".png"
+
+
+def ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48, rel_deflection=1e-4, material=None):
+    """Steel ring (bar radius [m]) pulled apart by two opposite point loads P along z: node
+    at the bottom held in translation, the top node loaded with +P, damped to rest.
+
+    Thin-ring theory (inextensible, Euler-Bernoulli; e.g. Roark, Formulas for Stress and
+    Strain, table 9.2 case 1): delta = (pi/4 - 2/pi) P R^3 / (EI). Roark's correction for the
+    hoop (extensional) deformation multiplies pi/4 by K1 = 1 - alpha and 2/pi by K2^2 = (1 -
+    alpha)^2, alpha = I/(A R^2); our beam has no shear deformation (beta = 0). P is chosen so
+    that delta = rel_deflection x R (linear range). Returns dict(delta, theory, theory_thin, P)."""
+    from .materials import steel
+    from .scenes import settle
+    O.reset()
+    mat = material if material is not None else steel()
+    nodes, cyls = B.ring((0, 0, 0), ring_radius, bar_radius, mat, segments=segments, axis=(0, 1, 0))
+    if segments % 2:
+        raise ValueError("segments must be even (two opposite nodes)")
+    bottom, top = nodes[0], nodes[segments // 2]
+    E = mat.young
+    I = math.pi * bar_radius ** 4 / 4
+    A = math.pi * bar_radius ** 2
+    R = ring_radius
+    c_thin = math.pi / 4 - 2 / math.pi
+    alpha = I / (A * R * R)
+    c_full = (1 - alpha) * math.pi / 4 - 2 * (1 - alpha) ** 2 / math.pi
+    P = rel_deflection * R * E * I / (c_thin * R ** 3)
+    B.fix([bottom], "xyz")
+    O.engines = engines(gravity=(0, 0, 0), damping=0.8)
+    p0 = Vector3(O.bodies[top].state.pos) - O.bodies[bottom].state.pos
+    O.forces.setPermF(top, Vector3(0, 0, P) if p0[2] > 0 else Vector3(0, 0, -P))
+    settle([top], rel_tol=1e-8, chunk=4000)
+    p1 = O.bodies[top].state.pos - O.bodies[bottom].state.pos
+    delta = (p1 - p0).norm()
+    return dict(delta=delta, theory=c_full * P * R ** 3 / (E * I), theory_thin=c_thin * P * R ** 3 / (E * I), P=P,
+                alpha=alpha, params=dict(ring_radius=R, bar_radius=bar_radius, segments=segments, young=E))
+
+
+def rope_tensile_test(length=1.0, segments=1, damping=0.0, steps_per_unit_strain=2e5, material=None):
+    """6x7 FC rope (yadeflex.rope_6x7_8mm) pulled to rupture. Returns dict(strain, force, EA
+    (secant at 20% of the breaking force), rupture_force (largest force carried), ...)."""
+    from .materials import rope_6x7_8mm
+    mat = material if material is not None else rope_6x7_8mm()
+    s = single_wire(mat, length=length, radius=0.004, segments=segments, damping=damping)
+    e_break = mat.tensileStrength * math.pi * 0.004 ** 2 / (mat.young * math.pi * 0.004 ** 2)
+    e, f, _ = drive_strains(s, [1.3 * e_break], steps_per_unit_strain=steps_per_unit_strain)
+    eng = next(x for x in O.engines if type(x).__name__ == "FlexElementEngine")
+    k = next(i for i in range(len(f)) if f[i] is not None and f[i] >= 0.2 * mat.tensileStrength * math.pi * 0.004 ** 2)
+    carried = [x for x, el in zip(f, e) if x is not None]
+    return dict(strain=e, force=f, EA=f[k] / e[k], rupture_force=max(carried), ruptured=eng.nRuptured,
+                params=dict(length=length, segments=segments, damping=damping))

@@ -1,0 +1,73 @@
+"""Chain-link wire law materials (FlexMat with a stress-strain curve; see pkg/kernel/WireLaw.hpp).
+
+The wire law is tension-only and piecewise linear through the given stress-strain points
+(the origin implied); unloading and reloading follow the first slope stress[0]/strain[0]
+with a plastic-elongation memory; a link ruptures past the last point. Each link may carry a
+stochastic slack (Thoeni et al. 2013, Computers and Geotechnics 49:158-169): slack strain
+slack_scale * xi, xi symmetric triangular on [0, 1], drawn once per link from `seed` and the
+link's two node ids (reproducible, independent of thread count and O.reset()), reached
+through a soft initial branch ending at force_ratio x the first point's force.
+"""
+import math
+
+from yade.wrapper import FlexMat
+
+from .materials import flex_material
+
+# High-tensile steel wire, tensile strength 1770 N/mm2 (TECCO wire, Geobrugg; DESIGN.md).
+# E = 200 GPa up to the proportional limit 1400 N/mm2 (0.79 fu), 0.2% proof stress about
+# 1600 N/mm2 (0.90 fu), tensile strength 1770 N/mm2 at 5% elongation after fracture: typical of
+# cold-drawn, patented wire (EN 10264-2 class; an assumption, not a measured curve of this wire).
+TECCO_WIRE_STRAIN = (0.0070, 0.0100, 0.0200, 0.0500)  # [-]
+TECCO_WIRE_STRESS = (1.400e9, 1.600e9, 1.720e9, 1.770e9)  # [Pa]
+TECCO_WIRE_DIAMETER = 0.003  # [m]
+
+
+def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, force_ratio=1.0, seed=12345,
+                  friction_deg=30.0, contact_ratio=0.25, beam_poisson=0.3, bending_factor=1.0, label=""):
+    """FlexMat with the wire law. strain [-], stress [Pa]: the curve's points (origin implied);
+    young [Pa]: contact and bending stiffness (default: the curve's first slope); density
+    [kg/m3]; slack_scale [-], force_ratio [-], seed: distortion (see module doc).
+    Raises ValueError naming the problem for a bad curve or distortion parameters."""
+    try:
+        e = [float(x) for x in strain]
+        s = [float(x) for x in stress]
+    except (TypeError, ValueError):
+        raise ValueError(f"wire curve: strain and stress must be sequences of numbers, got {strain!r}, {stress!r}") from None
+    if young is None:
+        young = s[0] / e[0] if e and s and e[0] > 0 and s[0] > 0 else 200e9
+    if not isinstance(seed, int) or not (-2 ** 31 <= seed < 2 ** 31):
+        raise ValueError(f"seed must be a 32-bit integer, got {seed!r}")
+    m = flex_material(young=young, density=density, friction_deg=friction_deg, beam_poisson=beam_poisson,
+                      contact_ratio=contact_ratio, tension_only=True, bending_factor=bending_factor, label=label)
+    m.wireStrain = e
+    m.wireStress = s
+    m.wireSlackScale = float(slack_scale)
+    m.wireForceRatio = float(force_ratio)
+    m.wireSeed = seed
+    err = m.wireError()
+    if err:
+        raise ValueError(err)
+    return m
+
+
+def tecco_wire(label="tecco_wire", slack_scale=None, force_ratio=None, seed=12345, **kw):
+    """TECCO G65/3 wire: d = 3 mm high-tensile steel, 1770 N/mm2 (curve TECCO_WIRE_*).
+
+    Distortion defaults (slack_scale, force_ratio) are the mesh calibration of
+    TECCO_MESH_CALIBRATION (see yadeflex.mesh); pass 0 and 1 for a straight single wire."""
+    from .mesh import TECCO_MESH_CALIBRATION
+    cal = TECCO_MESH_CALIBRATION
+    return wire_material(TECCO_WIRE_STRAIN, TECCO_WIRE_STRESS, density=7850.0,
+                         slack_scale=cal["slack_scale"] if slack_scale is None else slack_scale,
+                         force_ratio=cal["force_ratio"] if force_ratio is None else force_ratio,
+                         seed=seed, label=label, **kw)
+
+
+def wire_area(diameter):
+    """Cross-section of a wire [m2]."""
+    return math.pi * diameter ** 2 / 4
+
+
+def is_wire(material):
+    return isinstance(material, FlexMat) and len(material.wireStrain) > 0

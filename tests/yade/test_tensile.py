@@ -1,0 +1,105 @@
+"""Tensile tests of the damping-module steel parts: rope (EA, breaking force), ring (curved-beam
+theory), chain-link mesh geometry (panel, cylinder, seam, edge ring) and the TECCO G65/3 panel
+against its datasheet."""
+import math
+from collections import Counter
+
+import pytest
+from yade import O
+
+import yadeflex as yf
+from yadeflex import tensile, mesh, wire
+from tol import assert_rel
+
+ROPE_EA = 96e9 * 24.32e-6  # [N] datasheet E x metallic area (DESIGN.md)
+ROPE_MBF = 37.6e3  # [N] minimum breaking force
+
+
+@pytest.mark.parametrize("segments,damping,rate", [(1, 0.0, 2e5), (10, 0.3, 2e6)])
+def test_rope_axial_stiffness_and_breaking_force(scene, segments, damping, rate):
+    r = tensile.rope_tensile_test(length=1.0, segments=segments, damping=damping, steps_per_unit_strain=rate)
+    assert_rel(r["EA"], ROPE_EA, 1e-2, "rope EA")  # issue 4: within 1%
+    assert_rel(r["rupture_force"], ROPE_MBF, 2e-2, "rope breaking force")  # issue 4: within 2%
+    last = r["force"][-1]  # after rupture: the element is gone (1 segment) or carries nothing
+    assert r["ruptured"] >= 1 and (last is None or abs(last) < 1.0)
+
+
+def test_ring_under_diametral_point_loads_matches_curved_beam_theory(scene):
+    # A polygon of N straight beams converges to the circle with an error ~ c / N^2 (measured
+    # c = 8.0): 0.35% at 48 segments; the tolerance 0.5% holds that and no more.
+    g24 = tensile.ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=24)
+    g48 = tensile.ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48)
+    assert_rel(g48["delta"], g48["theory"], 5e-3, "ring deflection, 48 segments")
+    e24, e48 = g24["delta"] / g24["theory"] - 1, g48["delta"] / g48["theory"] - 1
+    assert 3.5 < e24 / e48 < 4.5, f"second-order convergence expected, errors {e24:.3e}, {e48:.3e}"
+    # the hoop-deformation correction of Roark is tiny for a thin ring (alpha = I/(A R^2))
+    assert abs(g48["theory"] / g48["theory_thin"] - 1) < 1e-3
+
+
+def _legs_at(cyls):
+    n = Counter()
+    for c in cyls:
+        n[O.bodies[c].shape.node1] += 1
+        n[O.bodies[c].shape.node2] += 1
+    return n
+
+
+def test_chain_link_panel_geometry(scene):
+    mat = wire.tecco_wire()
+    p = mesh.chain_link_panel(1.0, 1.0, mat)
+    a, h = mesh.TECCO_G65_DX / 2, mesh.TECCO_G65_DY / 2
+    nx, ny = p["params"]["nx"], p["params"]["ny"]
+    assert (nx, ny) == (24, 14)
+    assert len(p["cylinders"]) == nx * ny and len(p["spirals"]) == nx
+    leg = math.hypot(a, h)
+    for c in p["cylinders"]:
+        assert O.bodies[c].shape.L0 == pytest.approx(leg, rel=1e-12)
+    legs = _legs_at(p["cylinders"])
+    inner = [i for (ij, i) in p["nodes"].items() if 0 < ij[0] < nx and 0 < ij[1] < ny]
+    assert inner and all(legs[i] == 4 for i in inner), "a knot joins two legs of each of two spirals"
+    # each spiral is one continuous zigzag wire along y
+    for sp in p["spirals"]:
+        for c1, c2 in zip(sp, sp[1:]):
+            assert O.bodies[c1].shape.node2 == O.bodies[c2].shape.node1
+
+
+@pytest.mark.parametrize("spirals", ["around", "vertical"])
+def test_chain_link_cylinder_is_closed_with_its_seam_and_takes_edge_rings(scene, spirals):
+    D, H = 1.0, 0.6
+    m = mesh.chain_link_cylinder(D, H, wire.tecco_wire(), spirals=spirals)
+    for i in m["nodes"].values():
+        p = O.bodies[i].state.pos
+        assert math.hypot(p[0], p[1]) == pytest.approx(D / 2, rel=1e-12)
+    legs = _legs_at(m["cylinders"])
+    edge = set(m["edges"]["bottom"]) | set(m["edges"]["top"])
+    assert all(legs[i] == 4 for i in m["nodes"].values() if i not in edge), "no free edge: the seam is closed"
+    assert m["edges"]["seam"] and abs(m["params"]["height"] - H) <= max(m["params"]["dx"], m["params"]["dy"]) / 2
+    # rings (bar d = 10 mm) through the top and bottom edge knots
+    steel = yf.steel()
+    n_before = len(m["cylinders"])
+    for side in ("bottom", "top"):
+        ring = mesh.edge_ring(m["edges"][side], 0.005, steel)
+        assert len(ring) == len(m["edges"][side])
+        for c in ring:
+            s = O.bodies[c].shape
+            assert s.radius == 0.005 and s.node1 in m["edges"][side] and s.node2 in m["edges"][side]
+    assert n_before == len(m["cylinders"])
+
+
+def test_tecco_panel_longitudinal_strength_vs_datasheet(scene):
+    """1 x 1 m panel, clamped edges, pulled along the spirals. The model has no parameter fitted
+    to the mesh (wire curve from wire data; slack from the knot play; see yadeflex.mesh): its
+    peak is a prediction, measured 128 kN/m, -14% from the datasheet's 150 kN/m. The test keeps
+    it within 20% of the datasheet and checks that the test is quasi-static."""
+    runs = {}
+    for speed in (1.0, 2.0):
+        s = tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=speed)
+        runs[speed] = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    r = runs[1.0]
+    assert r["ruptured"] > 0
+    assert r["unbalance_at_peak"] < 0.01, "quasi-static: both clamped edges carry the same force"
+    assert_rel(runs[2.0]["peak"], r["peak"], 0.01, "peak independent of the pulling speed")
+    upper = 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
+    assert r["peak"] < upper, "no more than every wire crossing a section at its breaking force"
+    assert_rel(r["peak"], mesh.TECCO_G65_STRENGTH, 0.20, "peak resistance per metre vs TECCO G65/3 datasheet")
+    assert 0.005 < r["elongation_at_peak"] < 0.2
