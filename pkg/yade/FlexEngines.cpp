@@ -204,6 +204,12 @@ Real FlexTimeStepper::omega2Bonds() const
 		}
 	Real w2 = 0;
 	for (const Share& sh : shares) {
+		bool moves = false; // an element whose nodes are all clamped has no mode of its own
+		for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
+			const shared_ptr<Body>& nb = bodies[sh.e.nodes[k]];
+			moves = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
+		}
+		if (!moves) continue;
 		Real scale = 1;
 		for (int k = 0; k < sh.e.nNodes; ++k) {
 			const int               nid = sh.e.nodes[k];
@@ -252,7 +258,8 @@ Real FlexTimeStepper::omega2Contacts() const
 	auto invSqrtMass = [&](Body::id_t id) -> Real {
 		if (id < 0 || id >= (Body::id_t)bodies.size()) return 0;
 		const shared_ptr<Body>& b = bodies[id];
-		if (!b || !b->isDynamic() || !(b->state->mass > 0)) return 0;
+		// a body with every DOF blocked does not move: no row of its own, infinite mass to others
+		if (!b || !b->isDynamic() || !(b->state->mass > 0) || b->state->blockedDOFs == State::DOF_ALL) return 0;
 		return 1 / std::sqrt(b->state->mass);
 	};
 	auto addRot = [&](Body::id_t id, Real ks, Real w, Real lever) {
