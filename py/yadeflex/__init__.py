@@ -14,10 +14,11 @@ from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
 from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on
 from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
+from .rope import rope_around
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
     "node", "cylinder", "chain", "ring", "helix", "net", "fix", "check_finite",
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
-    "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring",
+    "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
 ]
