@@ -16,6 +16,7 @@ from .membrane import (membrane_material, geotextile, facet, triangle_mesh, shee
 from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on
 from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
+from .rope import rope_around
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
@@ -23,5 +24,5 @@ __all__ = [
     "membrane_material", "geotextile", "facet", "triangle_mesh", "sheet", "lining", "read_mesh", "mesh_file",
     "membrane_state",
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
-    "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring",
+    "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
 ]

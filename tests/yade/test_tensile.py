@@ -103,3 +103,17 @@ def test_tecco_panel_longitudinal_strength_vs_datasheet(scene):
     assert r["peak"] < upper, "no more than every wire crossing a section at its breaking force"
     assert_rel(r["peak"], mesh.TECCO_G65_STRENGTH, 0.20, "peak resistance per metre vs TECCO G65/3 datasheet")
     assert 0.005 < r["elongation_at_peak"] < 0.2
+
+
+def test_rope_closed_around_two_modules_has_the_hull_length(scene):
+    R, r, d = 0.5, 0.004, 1.2  # module radius, rope radius, distance between module centres [m]
+    nodes, cyls = yf.rope_around([(0, 0), (d, 0)], R, 0.3, yf.rope_6x7_8mm(), rope_radius=r, segment_length=0.05)
+    length = sum(O.bodies[c].shape.L0 for c in cyls)
+    exact = 2 * math.pi * (R + r) + 2 * d  # two half circles and two tangents
+    # chords of ~5 cm on a 0.5 m radius: the polygon is shorter by ~ (h/R)^2/24 ~ 4e-4
+    assert_rel(length, exact, 1e-3, "rope length around two modules")
+    for i in nodes:
+        p = O.bodies[i].state.pos
+        dist = min(math.hypot(p[0], p[1]), math.hypot(p[0] - d, p[1]))
+        # outside both modules, up to the sagitta of the hull's fine sampling (~ 0.008 h^2/R = 4e-5 m)
+        assert dist >= R + r - 4e-5

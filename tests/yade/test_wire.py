@@ -40,6 +40,11 @@ def test_single_wire_passes_every_knot_and_ruptures_past_the_last(scene):
         assert_rel(f[k], sk * A, KNOT_TOL, f"force at knot strain {ek}")
     c = O.bodies[s["cylinders"][0]]
     assert c is not None and element_engine().nRuptured == 0, "no rupture at the last point itself"
+    # energy: the work done on the wire (trapezoids over the record, O(h)) is what it stores
+    # plus what it dissipated
+    es, fs = [0.0] + e, [0.0] + f
+    work = sum(0.5 * (fs[k] + fs[k - 1]) * (es[k] - es[k - 1]) * 0.1 for k in range(1, len(es)))
+    assert_rel(O.energy["flexBondPlastic"] + c.shape.elasticEnergy, work, 1e-3, "work = elastic + dissipated")
     # the input curve is never overwritten
     assert list(mat.wireStrain) == E_KNOTS and list(mat.wireStress) == S_KNOTS
     assert c.shape.maxStrain == pytest.approx(E_KNOTS[-1], rel=1e-12)
@@ -173,15 +178,18 @@ def _thread_rows(threads, steps, parallel):
 
 def test_threads_j1_equals_j2_for_a_distorted_mesh_pull():
     # default settings (this small scene runs the element loop serially): bitwise identical,
-    # with links carrying hundreds of newtons after an 8% pull
-    r1, r2 = _thread_rows(1, 8000, False), _thread_rows(2, 8000, False)
+    # with links carrying hundreds of newtons after a 4% pull
+    r1, r2 = _thread_rows(1, 4000, False), _thread_rows(2, 4000, False)
     assert max(float(a[3]) for a in r1) > 100.0
     assert r1 == r2
     # element loop and integrator forced onto two threads: the slack draws are still bitwise
-    # identical; forces agree to round-off over 2000 steps (per-thread force buffers are summed
-    # in another order; the collapsing rhombi later amplify that, measured 0.5% at 8000 steps)
+    # identical; forces agree to round-off of the structure's force level over 2000 steps
+    # (per-thread force buffers are summed in another order; the collapsing rhombi later
+    # amplify that: 0.5% after 8000 steps at 2 m/s, measured)
     p1, p2 = _thread_rows(1, 2000, True), _thread_rows(2, 2000, True)
     assert [a[2] for a in p1] == [b[2] for b in p2] == [a[2] for a in r1]
+    fmax = max(abs(float(a[3])) for a in p1)
+    assert fmax > 10.0
     for a, b in zip(p1, p2):
         fa, fb = float(a[3]), float(b[3])
-        assert abs(fa - fb) <= 1e-9 * max(1.0, abs(fa)), f"link {a[1]}: force -j1 {fa} vs -j2 {fb}"
+        assert abs(fa - fb) <= 1e-9 * fmax, f"link {a[1]}: force -j1 {fa} vs -j2 {fb} (largest link force {fmax} N)"

@@ -8,9 +8,9 @@ from yade import O
 
 from yadeflex import tensile
 
-N = int(sys.argv[1]) if len(sys.argv) > 1 else 8000
+N = int(sys.argv[1]) if len(sys.argv) > 1 else 4000
 parallel = len(sys.argv) > 2 and sys.argv[2] == "1"
-s = tensile.mesh_panel_scene(width=0.5, height=0.5, seed=31, speed=2.0)
+s = tensile.mesh_panel_scene(width=0.5, height=0.5, seed=31, speed=4.0)
 O.trackEnergy = True
 for e in O.engines:
     if parallel and type(e).__name__ in ("FlexElementEngine", "FlexNewtonIntegrator"):

@@ -1,0 +1,122 @@
+# Benchmark: chain-link panel pulled apart, YADE's built-in WireMat/WirePM against yade-flex,
+# in one run (GPL-2.0-or-later).
+#
+#   YADE_PREFIX=... PYTHONPATH=py yade-double -n -j1 -x bench/bench_wire.py [BUILTIN_DIR] [--quick]
+#
+# The same geometry on both sides: TECCO G65/3 lattice (rhombus diagonals 83 x 143 mm), 1 x 1 m,
+# the same wire curve (yadeflex.wire.TECCO_WIRE_*) and the same distortion (slack scale 0.036,
+# force ratio 1: WirePM type 2 with lambda_u, lambda_F). The built-in panel comes from
+# bench/builtin_wire.py (BUILTIN_DIR: where it is, default this directory): spheres with
+# WirePM links, no contact between wires. yade-flex: FlexCylinder legs, with cylinder contacts
+# and bending. Both are pulled along the spirals (y). Time per step: median of REPS x STEPS
+# O.step() calls after a warm-up, with the top row moving (links loaded); per link-step =
+# per step / links. Tensile curves: peak force per metre width. Writes
+# bench/results/wire_timing.csv, wire_curves.csv and wire_machine.txt.
+import csv
+import math
+import os
+import platform
+import statistics
+import sys
+import time
+
+from yade import O
+
+from yadeflex import tensile, wire, mesh
+
+HERE = os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py") else __file__))
+args = [a for a in sys.argv[1:] if not a.startswith("--")]
+builtin_dir = args[0] if args else HERE
+quick = "--quick" in sys.argv
+sys.path.insert(0, builtin_dir)
+try:
+    import builtin_wire as bw
+except ImportError:
+    raise SystemExit(f"bench_wire: bench/builtin_wire.py (the built-in WirePM reference scene) not found in {builtin_dir}; "
+                     "pass its directory as the first argument")
+
+STEPS, REPS, WARMUP = (200, 3, 50) if quick else (500, 7, 100)
+CURVE = list(zip(wire.TECCO_WIRE_STRAIN, wire.TECCO_WIRE_STRESS))
+SLACK, RATIO = mesh.TECCO_MESH_CALIBRATION["slack_scale"], mesh.TECCO_MESH_CALIBRATION["force_ratio"]
+out = os.path.join(HERE, "results")
+os.makedirs(out, exist_ok=True)
+
+
+def time_steps():
+    for _ in range(WARMUP):
+        O.step()
+    wall = []
+    for _ in range(REPS):
+        t0 = time.perf_counter()
+        for _ in range(STEPS):
+            O.step()
+        wall.append((time.perf_counter() - t0) / STEPS * 1e6)
+    return statistics.median(wall), wall
+
+
+def builtin_panel():
+    return bw.panel(topology="rhombic", width=1.0, height=1.0, cell=(mesh.TECCO_G65_DX, mesh.TECCO_G65_DY), wire_d=0.003,
+                    strain_stress=CURVE, wire_type=2, lambda_u=SLACK, lambda_F=RATIO, seed=12345, damping=0.2)
+
+
+def flex_panel(speed):
+    return tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=speed, damping=0.2,
+                                    material=wire.tecco_wire(slack_scale=SLACK, force_ratio=RATIO))
+
+
+rows = []
+for rep in range(1 if quick else 3):  # interleaved: built-in, yade-flex, built-in, ...
+    info = builtin_panel()
+    t = bw.time_per_link_step(STEPS, REPS, WARMUP, velocity=0.05)
+    rows.append(dict(impl="builtin WirePM", round=rep, links=t["links"], bodies=len(O.bodies), interactions=t["interactions"], dt=O.dt,
+                     us_per_step=t["us_per_step"], us_per_link_step=t["us_per_link_step"], contacts="none"))
+    s = flex_panel(0.05)
+    O.step()
+    med, _ = time_steps()
+    nl = sum(1 for c in s["cylinders"] if O.bodies[c] is not None)
+    rows.append(dict(impl="yade-flex", round=rep, links=nl, bodies=len(O.bodies), interactions=len(O.interactions), dt=O.dt,
+                     us_per_step=med, us_per_link_step=med / nl, contacts="cylinder-cylinder, sphere-cylinder"))
+    for r in rows[-2:]:
+        print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r.items()), flush=True)
+
+summary = {}
+for impl in ("builtin WirePM", "yade-flex"):
+    sel = [r for r in rows if r["impl"] == impl]
+    summary[impl] = dict(us_per_step=statistics.median(r["us_per_step"] for r in sel),
+                         us_per_link_step=statistics.median(r["us_per_link_step"] for r in sel), dt=sel[0]["dt"], links=sel[0]["links"])
+ratio_step = summary["builtin WirePM"]["us_per_link_step"] / summary["yade-flex"]["us_per_link_step"]
+ratio_time = ratio_step * summary["yade-flex"]["dt"] / summary["builtin WirePM"]["dt"]
+print(f"per link-step: built-in {summary['builtin WirePM']['us_per_link_step']:.4f} us, yade-flex "
+      f"{summary['yade-flex']['us_per_link_step']:.4f} us -> yade-flex {ratio_step:.2f}x; per simulated second {ratio_time:.2f}x")
+
+# tensile curves (one run each, quasi-static 1 m/s)
+curves = {}
+info = builtin_panel()
+res = bw.pull(velocity=1.0, max_elongation=0.3 * info["size_y"], record_every=200, max_steps=2_000_000)
+curves["builtin WirePM"] = [(u / info["size_y"], f / info["size_x"]) for u, f, _ in res["curve"]]
+s = flex_panel(1.0)
+r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+curves["yade-flex"] = list(zip(r["elongation"], r["force_per_m"]))
+for impl, c in curves.items():
+    pk = max(c, key=lambda p: p[1])
+    summary[impl].update(peak_kN_per_m=pk[1] / 1e3, elongation_at_peak=pk[0])
+    print(f"{impl}: peak {pk[1] / 1e3:.1f} kN/m at elongation {pk[0]:.4f}")
+
+with open(os.path.join(out, "wire_timing.csv"), "w", newline="") as fh:
+    w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+with open(os.path.join(out, "wire_summary.csv"), "w", newline="") as fh:
+    keys = ["impl", "links", "dt", "us_per_step", "us_per_link_step", "peak_kN_per_m", "elongation_at_peak"]
+    w = csv.writer(fh)
+    w.writerow(keys)
+    for impl, d in summary.items():
+        w.writerow([impl] + [d.get(k) for k in keys[1:]])
+with open(os.path.join(out, "wire_curves.csv"), "w", newline="") as fh:
+    w = csv.writer(fh)
+    w.writerow(["impl", "elongation", "force_per_m"])
+    for impl, c in curves.items():
+        w.writerows([impl, e, f] for e, f in c)
+with open(os.path.join(out, "wire_machine.txt"), "w") as fh:
+    fh.write(f"{platform.node()} {platform.processor() or platform.machine()} {os.cpu_count()} cpus, {time.strftime('%Y-%m-%d')}, "
+             f"threads {O.numThreads}, steps {STEPS} x {REPS} (median), warm-up {WARMUP}\n")
