@@ -55,6 +55,7 @@ public:
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexMat, FrictMat,
 		"Material of deformable elements (yade-flex). ``young`` is Young's modulus of the element and also enters the contact stiffness; ``poisson`` keeps FrictMat's meaning (ks/kn of contacts); the beam's shear modulus uses :yref:`FlexMat.beamPoisson`.",
+		((Real, elementYoung, NaN, , "Young's modulus of the element (beam, bar) if it differs from the contact modulus ``young`` [Pa]; NaN: ``young``. A contact modulus below the material's (common DEM practice for steel wires) lengthens the time step without changing the structure's stiffness."))
 		((Real, beamPoisson, 0.3, , "Poisson ratio of the element material for G = E/(2(1+nu)) [-]"))
 		((Real, bendingFactor, 1.0, , "Scale of bending and torsion stiffness relative to a solid bar [-] (ropes: well below 1)"))
 		((bool, tensionOnly, false, , "Bonds carry no compression (ropes, wires) [-]"))
@@ -179,6 +180,21 @@ public:
 	DEFINE_FUNCTOR_ORDER_2D(FlexCylinder, FlexCylinder);
 };
 REGISTER_SERIALIZABLE(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom);
+
+class Ig2_Sphere_Sphere_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f, const shared_ptr<Interaction>& I) override
+	{
+		return go(s1, s2, st1, st2, sh, f, I);
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_Sphere_Sphere_FlexContactGeom, IGeomFunctor, "Sphere - sphere contact as a :yref:`FlexContactGeom` (both sides rigid), so that granular fill uses the same frictional law and energy booking as the element contacts (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack`: friction dissipation consistent with the leap-frog, shear energy released at separation booked). Periodic cells are not supported.");
+	// clang-format on
+	FUNCTOR2D(Sphere, Sphere);
+	DEFINE_FUNCTOR_ORDER_2D(Sphere, Sphere);
+};
+REGISTER_SERIALIZABLE(Ig2_Sphere_Sphere_FlexContactGeom);
 
 class Law2_FlexContactGeom_FrictPhys_CundallStrack : public LawFunctor {
 public:

@@ -48,7 +48,8 @@ namespace flexa {
 
 	inline flex::BeamSection section(const FlexMat& m, Real radius)
 	{
-		return flex::BeamSection::circular(m.young, m.young / (2 * (1 + m.beamPoisson)), radius, m.bendingFactor);
+		const Real E = std::isfinite(m.elementYoung) ? m.elementYoung : m.young;
+		return flex::BeamSection::circular(E, E / (2 * (1 + m.beamPoisson)), radius, m.bendingFactor);
 	}
 	inline flex::AxialLaw axialLaw(const FlexMat& m, Real radius)
 	{

@@ -7,7 +7,8 @@
 namespace yade {
 
 YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Ig2_Sphere_FlexFacet_FlexContactGeom)(
-        Ig2_FlexCylinder_FlexFacet_FlexContactGeom)(Ig2_FlexFacet_FlexFacet_FlexContactGeom)(Law2_FlexContactGeom_FrictPhys_CundallStrack));
+        Ig2_FlexCylinder_FlexFacet_FlexContactGeom)(Ig2_FlexFacet_FlexFacet_FlexContactGeom)(Ig2_Sphere_Sphere_FlexContactGeom)(
+        Law2_FlexContactGeom_FrictPhys_CundallStrack));
 
 namespace {
 	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
@@ -266,6 +267,32 @@ bool Ig2_FlexFacet_FlexFacet_FlexContactGeom::go(
 	I->functorCache.geomExists = false;
 	flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
 	return false;
+}
+
+bool Ig2_Sphere_Sphere_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State& st2, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Sphere_Sphere_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Real     R1 = static_cast<const Sphere&>(*cm1).radius, R2 = static_cast<const Sphere&>(*cm2).radius;
+	const Vector3r x1 = st1.pos, x2 = st2.pos + shift2, d = x2 - x1;
+	const Real     dist = d.norm(), overlap = R1 + R2 - dist;
+	const bool     isNew = !I->geom;
+	if (isNew && overlap <= 0 && !force) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	g.normal           = dist > 0 ? Vector3r(d / dist) : (isNew ? Vector3r(Vector3r::UnitZ()) : Vector3r(g.normal));
+	g.penetrationDepth = overlap;
+	g.refR1            = R1;
+	g.refR2            = R2;
+	g.contactPoint     = x1 + (R1 - 0.5 * overlap) * g.normal;
+	g.axis1            = x1;
+	g.axis2            = x2;
+	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - x1);
+	const Vector3r v2  = st2.vel + st2.angVel.cross(g.contactPoint - x2);
+	g.relVel           = v2 - v1;
+	// no element: the contact is always its own owner (separation ends it, see finishGeom)
+	finishGeom(scene, g, overlap > 0, I, -1, nullptr, 0, -1, nullptr, 0);
+	return true;
 }
 
 namespace {

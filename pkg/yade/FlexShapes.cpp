@@ -52,6 +52,7 @@ void FlexCylinder::attach(int selfId)
 	if (!mat) bad(selfId, "material must be a FlexMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
 	if (!(mat->density > 0) || !std::isfinite(mat->density)) bad(selfId, "material density must be positive and finite");
 	if (!(mat->young > 0) || !std::isfinite(mat->young)) bad(selfId, "material young must be positive and finite");
+	if (!std::isnan(mat->elementYoung) && !(mat->elementYoung > 0 && std::isfinite(mat->elementYoung))) bad(selfId, "material elementYoung must be positive and finite (or NaN: young)");
 	if (!(mat->bendingFactor >= 0)) bad(selfId, "material bendingFactor must be >= 0");
 	const std::string wireErr = mat->wireError();
 	if (!wireErr.empty()) bad(selfId, "material '" + mat->label + "': " + wireErr);

@@ -8,13 +8,15 @@ from .builders import _positive
 
 def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_ratio=0.25,
                   tension_only=False, yield_stress=math.inf, hardening=0.0,
-                  tensile_strength=math.inf, rupture_strain=math.inf, bending_factor=1.0, label=""):
+                  tensile_strength=math.inf, rupture_strain=math.inf, bending_factor=1.0, label="", contact_young=None):
     """A FlexMat, validated.
 
     young [Pa] element Young's modulus (also the contact stiffness scale); density [kg/m3];
     friction_deg [deg] contact friction angle; beam_poisson [-] for G = E/(2(1+nu));
     contact_ratio [-] ks/kn of contacts (FrictMat.poisson); yield_stress, tensile_strength [Pa];
-    hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ.
+    hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ;
+    contact_young [Pa]: contact modulus if it differs from young (None: young). young stays the
+    element's modulus; a lower contact modulus lengthens the time step of stiff wire contacts.
     """
     _positive("young", young)
     _positive("density", density)
@@ -29,10 +31,15 @@ def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_r
         raise ValueError(f"hardening must be >= 0, got {hardening!r}")
     if not (bending_factor >= 0 and math.isfinite(bending_factor)):
         raise ValueError(f"bending_factor must be >= 0, got {bending_factor!r}")
-    return FlexMat(young=young, density=density, frictionAngle=math.radians(friction_deg),
+    if contact_young is not None:
+        _positive("contact_young", contact_young)
+    m = FlexMat(young=young if contact_young is None else contact_young, density=density, frictionAngle=math.radians(friction_deg),
                    beamPoisson=beam_poisson, poisson=contact_ratio, tensionOnly=tension_only,
                    yieldStress=yield_stress, hardening=hardening, tensileStrength=tensile_strength,
                    ruptureStrain=rupture_strain, bendingFactor=bending_factor, label=label)
+    if contact_young is not None:
+        m.elementYoung = young
+    return m
 
 
 def steel(label="steel", **kw):

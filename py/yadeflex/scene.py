@@ -7,7 +7,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop,
                           Ig2_Sphere_Sphere_ScGeom, Ig2_Facet_Sphere_ScGeom, Ig2_Box_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom,
                           Ig2_Sphere_FlexCylinder_FlexContactGeom, Ig2_FlexCylinder_FlexCylinder_FlexContactGeom,
                           Ig2_Sphere_FlexFacet_FlexContactGeom, Ig2_FlexCylinder_FlexFacet_FlexContactGeom,
-                          Ig2_FlexFacet_FlexFacet_FlexContactGeom,
+                          Ig2_FlexFacet_FlexFacet_FlexContactGeom, Ig2_Sphere_Sphere_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator,
                           FlexCylinder, FlexNode, Sphere)
@@ -25,7 +25,7 @@ def _min_contact_radius():
     return r
 
 
-def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None):
+def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
@@ -35,7 +35,9 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     net impact, 1-2 r gains nothing more, measured). The time step is set by FlexTimeStepper
     to timestep_safety x the critical step: stability needs < 1, accuracy of stiff, short
     contacts needs less (the wire-and-ring demo's energy residual: 5% at 0.8, 0.47% at 0.5,
-    0.24% at 0.3, measured), hence 0.5.
+    0.24% at 0.3, measured), hence 0.5. flex_sphere_contacts: sphere-sphere contacts use
+    yade-flex's contact geometry and law (friction dissipation consistent with the leap-frog
+    integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
     """
     g = check_finite("gravity", gravity)
     if not (0 <= damping < 1):
@@ -53,7 +55,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_FlexFacet_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
                               verletDist=verlet, label="collider"),
         InteractionLoop(
-            [Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
+            [Ig2_Sphere_Sphere_FlexContactGeom() if flex_sphere_contacts else Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
              Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
             [Ip2_FrictMat_FrictMat_FrictPhys()],

@@ -24,9 +24,10 @@ TECCO_WIRE_DIAMETER = 0.003  # [m]
 
 
 def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, force_ratio=1.0, seed=12345,
-                  friction_deg=30.0, contact_ratio=0.25, beam_poisson=0.3, bending_factor=1.0, label=""):
+                  friction_deg=30.0, contact_ratio=0.25, beam_poisson=0.3, bending_factor=1.0, label="", contact_young=None):
     """FlexMat with the wire law. strain [-], stress [Pa]: the curve's points (origin implied);
-    young [Pa]: contact and bending stiffness (default: the curve's first slope); density
+    young [Pa]: bending stiffness, and contact stiffness unless contact_young [Pa] is given
+    (default: the curve's first slope); density
     [kg/m3]; slack_scale [-], force_ratio [-], seed: distortion (see module doc).
     Raises ValueError naming the problem for a bad curve or distortion parameters."""
     try:
@@ -39,7 +40,8 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
     if not isinstance(seed, int) or not (-2 ** 31 <= seed < 2 ** 31):
         raise ValueError(f"seed must be a 32-bit integer, got {seed!r}")
     m = flex_material(young=young, density=density, friction_deg=friction_deg, beam_poisson=beam_poisson,
-                      contact_ratio=contact_ratio, tension_only=True, bending_factor=bending_factor, label=label)
+                      contact_ratio=contact_ratio, tension_only=True, bending_factor=bending_factor, label=label,
+                      contact_young=contact_young)
     m.wireStrain = e
     m.wireStress = s
     m.wireSlackScale = float(slack_scale)

@@ -1,0 +1,305 @@
+"""The damping module: a chain-link mesh cylinder with steel rings, a geotextile lining and a
+granular fill on a rigid slab, hit by a boulder. One builder with typed, unit-annotated
+parameters, used by the main job (scripts/damping_module.py), the tests and parametric studies.
+
+Stages
+  1. fill: grains are dropped into a rigid, frictionless cylindrical container of the
+     lining's radius (grains only: a long time step) and settled under gravity; grains above
+     the module's height are removed;
+  2. structure: the mesh, rings and lining are built around the settled fill, the rigid
+     container removed, and the whole settled again (with the structure's time step);
+  3. impact: the boulder is placed just above the fill with the free-fall velocity of its
+     drop height, and the run starts without numerical damping unless asked.
+Stages 1-2 are cached (O.save) under a key made of every parameter they depend on, so impacts
+with other boulders reuse the filled module.
+
+Simplifications (stated, not hidden): the module's base nodes (mesh, rings, lining) are pinned
+to the slab (no sliding of the base); the slab is a rigid plane (a YADE Wall) whose reaction is
+the force on the wall plus the reactions at the pinned nodes; grains are spheres (no rolling
+resistance yet: angular gravel is represented by a higher friction angle); a cubic boulder is a
+rigid clump of overlapping spheres with the mass and inertia of the solid cube (its edges are
+rounded by the member radius).
+"""
+import dataclasses
+import hashlib
+import json
+import math
+import os
+import random
+
+from yade import O
+from yade.minieigenHP import Vector3, Quaternion
+from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, FlexFacet
+
+from . import builders as B
+from . import membrane as M
+from .mesh import chain_link_cylinder, edge_ring
+from .scene import engines
+
+G = 9.81
+
+# Fill presets: grain size range [m] (the simulated size; real sand is far too fine for a
+# sphere-per-grain model and is represented by coarser grains with its bulk properties),
+# solid density [kg/m3], friction angle [deg], contact modulus [Pa].
+FILLS = {
+    "gravel": dict(grain_min=0.032, grain_max=0.063, density=2650.0, friction_deg=38.0, young=1e8),
+    "sand": dict(grain_min=0.020, grain_max=0.030, density=2650.0, friction_deg=33.0, young=1e8),
+    "cellular_glass": dict(grain_min=0.030, grain_max=0.060, density=350.0, friction_deg=45.0, young=2e7),
+}
+
+
+@dataclasses.dataclass
+class ModuleParams:
+    """Parameters of a damping-module impact (SI units)."""
+    diameter: float = 1.0            # [m] mesh cylinder diameter
+    height: float = 0.6              # [m] mesh cylinder height
+    ring_bar_diameter: float = 0.010  # [m] steel rings at top and bottom
+    lining: bool = True              # geotextile lining inside the mesh
+    lining_thickness: float = 0.002  # [m]
+    lining_gap: float = 0.01         # [m] clearance between mesh and lining at rest
+    fill: str = "gravel"             # one of FILLS
+    grain_min: float = None          # [m] override the preset
+    grain_max: float = None          # [m]
+    fill_friction_deg: float = None  # [deg]
+    boulder_mass: float = 800.0      # [kg]
+    boulder_shape: str = "cube"      # 'cube' or 'sphere'
+    boulder_density: float = 2400.0  # [kg/m3] concrete
+    drop_height: float = 2.0         # [m] free fall of the boulder's lowest point onto the fill top
+    impact_velocity: float = None    # [m/s] instead of drop_height
+    impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
+    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact
+    settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
+    timestep_safety: float = 0.5     # [-]
+    steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
+    seed: int = 1
+
+    def preset(self):
+        if self.fill not in FILLS:
+            raise ValueError(f"unknown fill {self.fill!r}: choose one of {sorted(FILLS)}")
+        p = dict(FILLS[self.fill])
+        for k in ("grain_min", "grain_max"):
+            if getattr(self, k) is not None:
+                p[k] = getattr(self, k)
+        if self.fill_friction_deg is not None:
+            p["friction_deg"] = self.fill_friction_deg
+        return p
+
+    def validate(self):
+        """Raise ValueError naming the first bad parameter (before any simulation starts)."""
+        for k in ("diameter", "height", "ring_bar_diameter", "lining_thickness", "boulder_mass", "boulder_density", "steel_contact_young"):
+            v = getattr(self, k)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"{k} must be a positive finite number, got {v!r}")
+        if not (isinstance(self.lining_gap, (int, float)) and 0 <= self.lining_gap < 0.25 * self.diameter):
+            raise ValueError(f"lining_gap must be in [0, diameter/4), got {self.lining_gap!r}")
+        p = self.preset()
+        if not (0 < p["grain_min"] <= p["grain_max"]):
+            raise ValueError(f"grain sizes must satisfy 0 < grain_min <= grain_max, got {p['grain_min']!r}, {p['grain_max']!r}")
+        if p["grain_max"] > 0.25 * self.diameter:
+            raise ValueError(f"grain_max {p['grain_max']} m is too large for a {self.diameter} m module (max diameter/4)")
+        if not (0 <= p["friction_deg"] < 90):
+            raise ValueError(f"fill friction must be in [0, 90) deg, got {p['friction_deg']!r}")
+        if self.boulder_shape not in ("cube", "sphere"):
+            raise ValueError(f"boulder_shape must be 'cube' or 'sphere', got {self.boulder_shape!r}")
+        if self.impact_velocity is None:
+            if not (isinstance(self.drop_height, (int, float)) and math.isfinite(self.drop_height) and self.drop_height > 0):
+                raise ValueError(f"drop_height must be positive (the boulder would start overlapping the module), got {self.drop_height!r}")
+        elif not (math.isfinite(self.impact_velocity) and self.impact_velocity > 0):
+            raise ValueError(f"impact_velocity must be positive, got {self.impact_velocity!r}")
+        ox, oy = self.impact_offset
+        if math.hypot(ox, oy) > 0.5 * self.diameter:
+            raise ValueError(f"impact_offset {self.impact_offset} lies outside the module (radius {0.5 * self.diameter} m)")
+        for k in ("damping", "settle_damping"):
+            if not (0 <= getattr(self, k) < 1):
+                raise ValueError(f"{k} must be in [0, 1), got {getattr(self, k)!r}")
+        if not (0 < self.timestep_safety <= 1):
+            raise ValueError(f"timestep_safety must be in (0, 1], got {self.timestep_safety!r}")
+
+    def fill_key(self):
+        """Hash of every parameter the filled module depends on (the cache key)."""
+        d = dataclasses.asdict(self)
+        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
+            d.pop(k)
+        d["_preset"] = self.preset()
+        d["_version"] = 1
+        return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
+
+    def boulder_size(self):
+        """Cube side or sphere diameter [m] of the boulder."""
+        v = self.boulder_mass / self.boulder_density
+        return v ** (1 / 3) if self.boulder_shape == "cube" else (6 * v / math.pi) ** (1 / 3)
+
+    def impact_speed(self):
+        return self.impact_velocity if self.impact_velocity is not None else math.sqrt(2 * G * self.drop_height)
+
+
+def _grain_material(p, seedless_label="fill"):
+    m = FrictMat(young=p["young"], poisson=0.3, density=p["density"], frictionAngle=math.radians(p["friction_deg"]), label=seedless_label)
+    O.materials.append(m)
+    return m
+
+
+def _sphere_body(center, radius, mat):
+    b = Body()
+    b.shape = Sphere(radius=radius)
+    b.material = mat
+    b.state.pos = center
+    m = mat.density * 4 / 3 * math.pi * radius ** 3
+    b.state.mass = m
+    b.state.inertia = Vector3(1, 1, 1) * 0.4 * m * radius * radius
+    return O.bodies.append(b)
+
+
+def _container(radius, height, n=48):
+    """Rigid frictionless cylinder of YADE facets (only while the grains settle)."""
+    from yade import geom
+    mat = FrictMat(young=1e8, poisson=0.3, density=1000, frictionAngle=0.0, label="container")
+    O.materials.append(mat)
+    fs = geom.facetCylinder((0, 0, height / 2), radius, height, segmentsNumber=n, wallMask=4, material=mat)
+    return O.bodies.append(fs)
+
+
+def _settle(ke_tol, max_steps, chunk=500, progress=None):
+    """Run until the kinetic energy of the spheres falls below ke_tol [J]."""
+    steps = 0
+    while steps < max_steps:
+        for _ in range(chunk):
+            O.step()
+        steps += chunk
+        ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and isinstance(b.shape, Sphere))
+        if progress:
+            progress(steps, ke)
+        if ke < ke_tol:
+            return steps
+    raise RuntimeError(f"the fill did not settle in {max_steps} steps (kinetic energy {ke:.3g} J > {ke_tol:.3g} J)")
+
+
+def build_filled(params, progress=None):
+    """Stages 1-2 on a fresh O. Returns the dict of ids (also stored in O.tags['yadeflex_module'])."""
+    params.validate()
+    p = params.preset()
+    rnd = random.Random(params.seed)
+    O.reset()
+    R = 0.5 * params.diameter
+    H = params.height
+    r_lin = R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015  # lining midplane inside the wires
+    r_in = r_lin - 0.5 * params.lining_thickness  # what the grains may reach
+    # --- stage 1: grains in a rigid container, loose cubic lattice up to 2.2 H
+    gmat = _grain_material(p)
+    from yade import utils
+    wall = O.bodies.append(utils.wall(0, axis=2, sense=1, material=gmat))
+    _container(r_in, 2.4 * H)
+    rmax = 0.5 * p["grain_max"]
+    a = 2.05 * rmax
+    grains = []
+    nlay = int(2.2 * H / a)
+    for k in range(nlay):
+        z = rmax * 1.05 + k * a
+        m = int((r_in - rmax) / a)
+        for i in range(-m, m + 1):
+            for j in range(-m, m + 1):
+                x, y = i * a + (0.25 * a if k % 2 else 0), j * a
+                if math.hypot(x, y) <= r_in - 1.05 * rmax:
+                    rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
+                    grains.append(_sphere_body(Vector3(x, y, z), rad, gmat))
+    O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
+    O.dt = 1e-5
+    ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
+    _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill", s, ke)))
+    # trim: keep the grains wholly below the module's height
+    for g in list(grains):
+        b = O.bodies[g]
+        if b.state.pos[2] + b.shape.radius > H:
+            O.bodies.erase(g)
+            grains.remove(g)
+    for b in list(O.bodies):
+        if b is not None and b.shape.__class__.__name__ == "Facet":
+            O.bodies.erase(b.id)
+    for g in grains:
+        O.bodies[g].state.vel = Vector3(0, 0, 0)
+        O.bodies[g].state.angVel = Vector3(0, 0, 0)
+    # --- stage 2: the structure around the fill
+    from .wire import tecco_wire
+    wire = tecco_wire(seed=params.seed, contact_young=params.steel_contact_young)
+    O.materials.append(wire)
+    from .materials import steel
+    ring_mat = steel(label="ring_steel", friction_deg=30.0, contact_young=params.steel_contact_young)
+    mesh = chain_link_cylinder(params.diameter, H, wire)
+    rings = dict(bottom=edge_ring(mesh["edges"]["bottom"], 0.5 * params.ring_bar_diameter, ring_mat),
+                 top=edge_ring(mesh["edges"]["top"], 0.5 * params.ring_bar_diameter, ring_mat))
+    lin = None
+    if params.lining:
+        gtx = M.geotextile(friction_deg=30.0)
+        n_around = max(12, int(round(2 * math.pi * r_lin / 0.08)))
+        n_height = max(2, int(round(H / 0.08)))
+        lin = M.lining(r_lin, H, n_around, n_height, params.lining_thickness, gtx, center=(0, 0, 0.5 * params.lining_thickness), fix_bottom=True)
+    B.fix(mesh["edges"]["bottom"], "xyz")
+    O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
+    # the structure settles onto the fill: the mesh takes up its slack, a creep that local
+    # damping slows down; 1e-3 of the fill's potential energy scale is "negligible" here
+    _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke: progress("structure", s, ke)))
+    ids = dict(wall=wall, grains=grains, mesh_nodes=sorted(mesh["nodes"].values()), mesh_cylinders=mesh["cylinders"],
+               ring_bottom=rings["bottom"], ring_top=rings["top"], lining=(lin["facets"] if lin else []),
+               lining_nodes=(sorted({n for row in lin["rings"] for n in row}) if lin else []),
+               base_nodes=sorted(set(mesh["edges"]["bottom"]) | set(lin["bottom"] if lin else [])),
+               mesh_params=mesh["params"])
+    O.tags["yadeflex_module"] = json.dumps(ids)
+    return ids
+
+
+def filled_module(params, cache_dir=None, progress=None):
+    """The settled module on O: loaded from the cache when it holds this key, else built and
+    saved there. Returns (ids, cache_file, from_cache)."""
+    params.validate()
+    cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
+    os.makedirs(cache_dir, exist_ok=True)
+    f = os.path.join(cache_dir, f"module-{params.fill_key()}.yade.gz")
+    if os.path.exists(f):
+        O.load(f)
+        return json.loads(O.tags["yadeflex_module"]), f, True
+    ids = build_filled(params, progress=progress)
+    O.save(f + ".tmp.yade.gz")
+    os.replace(f + ".tmp.yade.gz", f)
+    return ids, f, False
+
+
+def fill_top(ids):
+    """Height of the highest grain surface [m]."""
+    return max(O.bodies[g].state.pos[2] + O.bodies[g].shape.radius for g in ids["grains"] if O.bodies[g] is not None)
+
+
+def add_boulder(params, ids, gap=0.005):
+    """The boulder, its lowest point `gap` [m] above the highest point of the module (fill,
+    top ring), moving down with the free-fall speed of params (drop height reduced by the
+    gap, so that it reaches the fill top at sqrt(2 g h)). Returns its body id."""
+    params.validate()
+    top = max(fill_top(ids), max(O.bodies[n].state.pos[2] for n in ids["mesh_nodes"]) + 0.5 * params.ring_bar_diameter)
+    s = params.boulder_size()
+    v_top = params.impact_speed()
+    v0 = math.sqrt(max(0.0, v_top * v_top - 2 * G * gap))
+    mat = FrictMat(young=3e9, poisson=0.2, density=params.boulder_density, frictionAngle=math.radians(35), label="boulder")
+    O.materials.append(mat)
+    ox, oy = params.impact_offset
+    if params.boulder_shape == "sphere":
+        r = 0.5 * s
+        bid = _sphere_body(Vector3(ox, oy, top + gap + r), r, mat)
+        O.bodies[bid].state.vel = Vector3(0, 0, -v0)
+        return bid
+    n = 4  # member spheres per side: radius s/(2n), centres on a grid inset by that radius
+    r = s / (2 * n)
+    members = []
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
+                c = Vector3(ox - s / 2 + r + 2 * r * i, oy - s / 2 + r + 2 * r * j, top + gap + r + 2 * r * k)
+                b = Body()
+                b.shape = Sphere(radius=r * 1.0)
+                b.material = mat
+                b.state.pos = c
+                members.append(b)
+    cid = O.bodies.appendClumped(members)[0]
+    cl = O.bodies[cid]
+    cl.state.mass = params.boulder_mass
+    cl.state.inertia = Vector3(1, 1, 1) * params.boulder_mass * s * s / 6
+    cl.state.vel = Vector3(0, 0, -v0)
+    return cid

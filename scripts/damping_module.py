@@ -1,0 +1,287 @@
+# The main job: a cylindrical damping module hit by a boulder (GPL-2.0-or-later).
+#
+#     yade-double -n -x scripts/damping_module.py [--out results/module] [options]
+#     (scripts/run does this; --help lists the options)
+#
+# Builds (or loads from the cache) the filled module, adds the boulder, runs the impact and
+# writes into --out: params.json, timeseries.csv, energy.csv, summary.json, plots (*.png)
+# and, unless --no-vtk, a VTK time series (vtk/flex.pvd) for ParaView.
+# Exit status: 0 done; 2 a NaN or unstable state (the message names the body); 3 the energy
+# balance residual exceeded --max-residual; 1 bad parameters or another error.
+import argparse
+import csv
+import dataclasses
+import json
+import math
+import os
+import sys
+import time
+
+HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("damping_module.py")), os.getcwd())
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
+
+from yade import O  # noqa: E402
+from yade.minieigenHP import Vector3  # noqa: E402
+
+import yadeflex as yf  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G  # noqa: E402
+
+
+def parse():
+    me = next((k for k, a in enumerate(sys.argv) if a.endswith("damping_module.py")), 0)
+    ap = argparse.ArgumentParser(prog="damping_module.py", description="Damping module hit by a boulder (yade-flex).")
+    ap.add_argument("--out", default="results/module", help="results folder")
+    ap.add_argument("--duration", type=float, default=None, help="simulated time after first contact [s] (default: until rebound + 20%%, max 0.3 s)")
+    ap.add_argument("--cache-dir", default=None, help="where filled modules are cached (default ~/.cache/yadeflex/modules)")
+    ap.add_argument("--small", action="store_true", help="reduced module for tests: 0.4 m x 0.3 m, 60-80 mm grains, 100 kg boulder")
+    ap.add_argument("--record-every", type=float, default=2e-4, help="time-series interval [s]")
+    ap.add_argument("--vtk-every", type=float, default=5e-3, help="VTK frame interval [s]")
+    ap.add_argument("--no-vtk", action="store_true")
+    ap.add_argument("--max-residual", type=float, default=0.02, help="largest accepted energy-balance residual, fraction of the impact energy")
+    for f in dataclasses.fields(ModuleParams):
+        name = "--" + f.name.replace("_", "-")
+        if f.type in ("bool", bool):
+            ap.add_argument(name, type=lambda s: s.lower() in ("1", "true", "yes"), default=None, help=f"[{f.default}]")
+        elif f.name == "impact_offset":
+            ap.add_argument(name, type=float, nargs=2, default=None, help="[0 0] m")
+        elif f.name in ("fill", "boulder_shape"):
+            ap.add_argument(name, default=None, help=f"[{f.default}]")
+        elif f.name == "seed":
+            ap.add_argument(name, type=int, default=None, help=f"[{f.default}]")
+        else:
+            ap.add_argument(name, type=float, default=None, help=f"[{f.default}]")
+    a = ap.parse_args(sys.argv[me + 1:])
+    p = ModuleParams()
+    if a.small:
+        p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+    for f in dataclasses.fields(ModuleParams):
+        v = getattr(a, f.name)
+        if v is not None:
+            setattr(p, f.name, tuple(v) if f.name == "impact_offset" else v)
+    return a, p
+
+
+class Progress:
+    def __init__(self, total_time):
+        self.t0, self.last, self.total = time.time(), 0.0, total_time
+
+    def __call__(self, extra=""):
+        now = time.time()
+        if now - self.last < 5 and O.time < self.total:
+            return
+        self.last = now
+        done = max(1e-12, O.time - self.start)
+        eta = (now - self.t0) / done * max(0.0, self.total - O.time)
+        print(f"  t = {1e3 * (O.time - self.start):7.2f} ms of {1e3 * (self.total - self.start):.0f} ms, {O.iter} steps, "
+              f"{now - self.t0:6.0f} s elapsed, ~{eta:.0f} s left {extra}", flush=True)
+
+
+def unstable_body():
+    """(id, what) of the first body with a non-finite position/velocity, else None."""
+    for b in O.bodies:
+        if b is None:
+            continue
+        for what, v in (("position", b.state.pos), ("velocity", b.state.vel)):
+            if not all(math.isfinite(x) for x in v):
+                return b.id, what
+    return None
+
+
+def main():
+    a, p = parse()
+    try:
+        p.validate()
+    except ValueError as e:
+        print(f"damping_module: bad parameter: {e}", file=sys.stderr)
+        return 1
+    out = os.path.abspath(a.out)
+    os.makedirs(out, exist_ok=True)
+    t_wall = time.time()
+    print(f"damping module: {p.diameter} m x {p.height} m, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s")
+
+    def prog(stage, steps, ke):
+        if steps % 10000 == 0:
+            print(f"  {stage}: {steps} steps, kinetic energy {ke:.3g} J, {time.time() - t_wall:.0f} s", flush=True)
+    ids, cache_file, cached = filled_module(p, cache_dir=a.cache_dir, progress=prog)
+    t_fill = time.time() - t_wall
+    print(f"filled module {'loaded from' if cached else 'built and saved to'} {cache_file} ({t_fill:.0f} s): "
+          f"{len(ids['grains'])} grains, {len(ids['mesh_cylinders'])} wire legs, {len(ids['lining'])} lining facets")
+    top0 = fill_top(ids)
+    bid = add_boulder(p, ids)
+    s = p.boulder_size()
+    boulder = O.bodies[bid]
+    mass = boulder.state.mass
+    O.engines = yf.engines(damping=p.damping, timestep_safety=p.timestep_safety)
+    O.trackEnergy = True
+    O.energy.clear()
+    O.timingEnabled = True
+    with open(os.path.join(out, "params.json"), "w") as f:
+        json.dump(dict(dataclasses.asdict(p), boulder_size=s, impact_speed=p.impact_speed(), fill_top=top0, cache_file=cache_file,
+                       contact_law="linear Cundall-Strack (yade-flex law for all sphere and element contacts)",
+                       numerical_damping=p.damping), f, indent=1)
+    # --- run
+    wall = ids["wall"]
+    base = ids["base_nodes"]
+    mesh_nodes = ids["mesh_nodes"]
+    R0 = 0.5 * p.diameter
+    mid = [n for n in mesh_nodes if abs(O.bodies[n].state.pos[2] - 0.5 * p.height) < 0.15 * p.height]
+    ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"])
+    el = [e for e in O.engines if e.label == "flexElements"][0]
+    rows, erows = [], []
+    v_prev, t_prev = Vector3(boulder.state.vel), O.time
+    e_impact = 0.5 * mass * p.impact_speed() ** 2
+    O.step()
+    total0 = O.energy.total()
+    start = O.time
+    t_contact = None
+    t_end = (start + a.duration) if a.duration else start + 0.3
+    prog2 = Progress(t_end)
+    prog2.start = start
+    next_rec, next_vtk = O.time, O.time
+    vtk = None
+    if not a.no_vtk:
+        try:
+            from yadeflex.output import VtkRecorder
+            vtk = VtkRecorder(os.path.join(out, "vtk"), prefix="flex")
+        except ImportError:
+            print("  (VTK output not available in this version)")
+    peak_f, rebound_t = 0.0, None
+    status = 0
+    # free fall up to the first contact, checked step by step: the speed just before the first
+    # contact force against sqrt(2 g h), h the whole fall from rest (drop height)
+    z_start, v_start = boulder.state.pos[2], -boulder.state.vel[2]
+    h0 = v_start ** 2 / (2 * G)  # fall already done at the start (the drop height minus the gap)
+    free_fall = None
+    while free_fall is None and O.time < t_end:
+        v_before, z_before = -boulder.state.vel[2], boulder.state.pos[2]
+        O.step()
+        dv = -boulder.state.vel[2] - v_before
+        if abs(dv - G * O.dt) > 1e-6 * G * O.dt:  # a force other than gravity acted this step
+            h = h0 + (z_start - z_before)
+            free_fall = dict(v_measured=v_before, v_expected=math.sqrt(2 * G * h), fall_height=h, t=O.time - start)
+    while O.time < t_end:
+        O.step()
+        if O.time >= next_rec:
+            next_rec += a.record_every
+            st = boulder.state
+            if not all(math.isfinite(x) for x in st.pos) or not math.isfinite(O.energy.total()):
+                bad = unstable_body()
+                print(f"damping_module: unstable state at t = {O.time:.6f} s: body #{bad[0] if bad else '?'} has a non-finite "
+                      f"{bad[1] if bad else 'energy'}; stopping", file=sys.stderr)
+                status = 2
+                break
+            dt_rec = O.time - t_prev
+            acc = (st.vel - v_prev) / dt_rec if dt_rec > 0 else Vector3(0, 0, 0)
+            v_prev, t_prev = Vector3(st.vel), O.time
+            f_contact = mass * (acc[2] + G)  # vertical force of the module on the boulder [N]
+            fw = O.forces.f(wall)[2]
+            slab = -fw + sum(O.bodies[n].state.mass * G - O.forces.f(n)[2] for n in base if O.bodies[n] is not None)
+            radial = [math.hypot(O.bodies[n].state.pos[0], O.bodies[n].state.pos[1]) - R0 for n in mid if O.bodies[n] is not None]
+            ring_f = {k: max([O.bodies[c].shape.axialForce for c in v if O.bodies[c] is not None] or [0.0]) for k, v in ring_ids.items()}
+            bottom = st.pos[2] - 0.5 * s
+            if t_contact is None and f_contact > 0.01 * mass * G and bottom < top0 + 0.01:
+                t_contact = O.time
+                if a.duration is None:
+                    t_end = O.time + 0.3
+                prog2.total = t_end
+            peak_f = max(peak_f, f_contact)
+            if t_contact is not None and rebound_t is None and st.vel[2] > 0:
+                rebound_t = O.time
+                if a.duration is None:
+                    t_end = min(t_end, O.time + max(0.2 * (O.time - t_contact), 0.01))
+                    prog2.total = t_end
+            rows.append(dict(t=O.time - start, boulder_z=st.pos[2], boulder_vz=st.vel[2], boulder_az=acc[2], impact_force=f_contact,
+                             penetration=max(0.0, top0 - bottom), slab_force=slab, bulge_max=max(radial or [0.0]),
+                             bulge_mean=(sum(radial) / len(radial) if radial else 0.0), ring_top_force=ring_f["top"],
+                             ring_bottom_force=ring_f["bottom"], broken_wires=el.nRuptured, dt=O.dt))
+            e = {k: O.energy[k] for k in O.energy.keys()}
+            e["t"] = O.time - start
+            e["residual"] = O.energy.total() - total0
+            erows.append(e)
+            prog2(f"| boulder v = {st.vel[2]:+.2f} m/s, force {f_contact / 1e3:.1f} kN")
+        if vtk is not None and O.time >= next_vtk:
+            next_vtk += a.vtk_every
+            vtk()
+    # --- outputs
+    keys = sorted({k for e in erows for k in e if k not in ("t", "residual")})
+    with open(os.path.join(out, "timeseries.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    with open(os.path.join(out, "energy.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["t"] + keys + ["residual"])
+        w.writeheader()
+        for e in erows:
+            w.writerow({k: e.get(k, 0.0) for k in ["t"] + keys + ["residual"]})
+    resid = max(abs(e["residual"]) for e in erows) / e_impact
+    last = erows[-1]
+    timing = {}
+    tot_ns = sum(e.execTime for e in O.engines) or 1
+    for e in O.engines:
+        timing[e.label or type(e).__name__] = round(e.execTime / tot_ns, 4)
+    steps = len(rows) and O.iter
+    wall_t = time.time() - t_wall
+    summary = dict(
+        impact_speed_expected=p.impact_speed(), free_fall_check=free_fall,
+        peak_impact_force=peak_f, peak_deceleration=peak_f / mass, penetration_max=max(r["penetration"] for r in rows),
+        impact_duration=((rebound_t or O.time) - t_contact) if t_contact is not None else None,
+        slab_force_max=max(r["slab_force"] for r in rows), bulge_max=max(r["bulge_max"] for r in rows),
+        ring_top_force_max=max(r["ring_top_force"] for r in rows), ring_bottom_force_max=max(r["ring_bottom_force"] for r in rows),
+        broken_wires=el.nRuptured, impact_energy=e_impact,
+        energy_end={k: last.get(k, 0.0) for k in keys},
+        energy_residual_max_fraction=resid,
+        numerical_damping_share=(last.get("nonviscDamp", 0.0) / e_impact),
+        run_time_s=wall_t, fill_time_s=t_fill, filled_from_cache=cached, steps=O.iter, time_per_step_us=1e6 * (wall_t - t_fill) / max(1, O.iter),
+        engine_share=timing, status=status)
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    try:
+        _plots(out, rows, erows, keys)
+    except Exception as e:  # plots are a convenience: never lose the numbers over them
+        print(f"  (plots failed: {e})")
+    print(f"done in {wall_t:.0f} s: peak force {peak_f / 1e3:.1f} kN, penetration {1e3 * summary['penetration_max']:.0f} mm, "
+          f"slab {summary['slab_force_max'] / 1e3:.1f} kN, energy residual {100 * resid:.2f}% of {e_impact:.0f} J; results in {out}")
+    if status:
+        return status
+    if resid > a.max_residual:
+        print(f"damping_module: energy balance residual {100 * resid:.2f}% exceeds {100 * a.max_residual:.1f}%", file=sys.stderr)
+        return 3
+    return 0
+
+
+def _plots(out, rows, erows, keys):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = [1e3 * r["t"] for r in rows]
+    fig, ax = plt.subplots(2, 2, figsize=(11, 7))
+    ax[0, 0].plot(t, [r["impact_force"] / 1e3 for r in rows], label="on the boulder")
+    ax[0, 0].plot(t, [r["slab_force"] / 1e3 for r in rows], label="on the slab")
+    ax[0, 0].set(xlabel="t [ms]", ylabel="force [kN]", title="impact and slab forces")
+    ax[0, 0].legend()
+    ax[0, 1].plot(t, [1e3 * r["penetration"] for r in rows])
+    ax[0, 1].set(xlabel="t [ms]", ylabel="penetration [mm]", title="boulder penetration")
+    ax[1, 0].plot(t, [1e3 * r["bulge_max"] for r in rows], label="max")
+    ax[1, 0].plot(t, [1e3 * r["bulge_mean"] for r in rows], label="mean")
+    ax[1, 0].set(xlabel="t [ms]", ylabel="radial bulging [mm]", title="mesh at mid-height")
+    ax[1, 0].legend()
+    ax[1, 1].plot(t, [r["ring_top_force"] / 1e3 for r in rows], label="top ring")
+    ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
+    ax[1, 1].set(xlabel="t [ms]", ylabel="max axial force [kN]", title="rings")
+    ax[1, 1].legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "impact.png"), dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(10, 6))
+    te = [1e3 * e["t"] for e in erows]
+    for k in keys:
+        ax.plot(te, [e.get(k, 0.0) for e in erows], label=k)
+    ax.plot(te, [e["residual"] for e in erows], "k--", label="balance residual")
+    ax.set(xlabel="t [ms]", ylabel="energy [J]", title="energy budget (work terms with YADE's signs)")
+    ax.legend(fontsize=8, ncol=2)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "energy.png"), dpi=110)
+    plt.close(fig)
+
+
+sys.exit(main())

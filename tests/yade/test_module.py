@@ -1,0 +1,94 @@
+"""The damping module end to end (reduced size, --small): outputs exist and agree, the energy
+balance closes, free fall is exact, the filling is cached, bad parameters are refused before
+anything runs."""
+import csv
+import json
+import math
+import os
+import subprocess
+import time
+
+import pytest
+
+from conftest import REPO
+
+SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
+
+
+def _run(out, cache, *args, timeout=900):
+    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.path.join(REPO, "py"))
+    t0 = time.time()
+    r = subprocess.run(["yade-double", "-n", "-j1", "-x", SCRIPT, "--out", str(out), "--cache-dir", str(cache), *map(str, args)],
+                       capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
+    return r, time.time() - t0
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    base = tmp_path_factory.mktemp("module")
+    r1, t1 = _run(base / "a", base / "cache", "--small", "--no-vtk")
+    assert r1.returncode == 0, r1.stdout[-3000:] + r1.stderr[-3000:]
+    r2, t2 = _run(base / "b", base / "cache", "--small", "--no-vtk")
+    assert r2.returncode == 0, r2.stdout[-3000:] + r2.stderr[-3000:]
+    return base, r1, r2
+
+
+def test_outputs_exist_and_agree(small_run):
+    base, r1, _ = small_run
+    out = base / "a"
+    for f in ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png"):
+        assert (out / f).stat().st_size > 200, f
+    s = json.loads((out / "summary.json").read_text())
+    rows = list(csv.DictReader(open(out / "timeseries.csv")))
+    assert len(rows) > 50
+    assert s["peak_impact_force"] == pytest.approx(max(float(r["impact_force"]) for r in rows))
+    assert s["penetration_max"] == pytest.approx(max(float(r["penetration"]) for r in rows))
+    # the boulder was stopped: its speed fell from the impact speed to a rebound below it
+    assert min(float(r["boulder_vz"]) for r in rows) < -0.9 * s["impact_speed_expected"]
+    assert float(rows[-1]["boulder_vz"]) > -0.2 * s["impact_speed_expected"]
+    # the peak force decelerates the boulder: impulse of the impact force ~ momentum change
+    p = json.loads((out / "params.json").read_text())
+    m = p["boulder_mass"]
+    dt = [float(b["t"]) - float(a["t"]) for a, b in zip(rows, rows[1:])]
+    impulse = sum(d * (float(r["impact_force"]) - m * 9.81) for d, r in zip(dt, rows[1:]))
+    dv = float(rows[-1]["boulder_vz"]) - float(rows[0]["boulder_vz"])
+    assert impulse == pytest.approx(m * dv, rel=0.02)
+
+
+def test_energy_balance_closes(small_run):
+    base, _, _ = small_run
+    s = json.loads((base / "a" / "summary.json").read_text())
+    assert s["energy_residual_max_fraction"] < 0.02
+    assert s["numerical_damping_share"] == 0.0  # no numerical damping unless asked
+    e = s["energy_end"]
+    # where the impact energy went: friction and plasticity, not damping
+    assert e["flexFriction"] > 0.3 * s["impact_energy"]
+
+
+def test_free_fall_speed_at_impact(small_run):
+    base, _, _ = small_run
+    ff = json.loads((base / "a" / "summary.json").read_text())["free_fall_check"]
+    assert abs(ff["v_measured"] / ff["v_expected"] - 1) < 1e-3
+
+
+def test_filling_is_cached(small_run):
+    base, r1, r2 = small_run
+    s1 = json.loads((base / "a" / "summary.json").read_text())
+    s2 = json.loads((base / "b" / "summary.json").read_text())
+    assert not s1["filled_from_cache"] and s2["filled_from_cache"]
+    assert "loaded from" in r2.stdout
+
+
+@pytest.mark.parametrize("args, msg", [
+    (["--diameter", "-1"], "diameter"),
+    (["--height", "0"], "height"),
+    (["--fill", "marbles"], "unknown fill"),
+    (["--drop-height", "0"], "drop_height"),
+    (["--impact-offset", "3", "0"], "impact_offset"),
+    (["--grain-min", "0.05", "--grain-max", "0.01"], "grain"),
+])
+def test_bad_parameters_rejected_before_running(tmp_path, args, msg):
+    r, t = _run(tmp_path / "x", tmp_path / "cache", "--small", *args, timeout=120)
+    assert r.returncode == 1
+    assert msg in r.stderr
+    assert not (tmp_path / "cache").exists() or not any((tmp_path / "cache").iterdir())
