@@ -116,12 +116,16 @@ public:
 	virtual ~FlexContactGeom() = default;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexContactGeom, GenericSpheresContact,
-		"Contact touching deformable elements (yade-flex). Per side: the nodes and the axis parameter u of the contact on the element (nodes -1: the body itself is rigid). Normal from body 1 to body 2.",
+		"Contact touching deformable elements (yade-flex). Per side: the nodes and the axis parameter u of the contact on a cylinder, or the three nodes and barycentric weights on a facet (all -1: the body itself is rigid); axis1/axis2 is the closest point on the axis or midplane. Normal from body 1 to body 2.",
 		((Real, penetrationDepth, NaN, , "Overlap [m]"))
 		((Vector2i, nodes1, Vector2i(-1, -1), , "Nodes of side 1 (-1: rigid body)"))
 		((Vector2i, nodes2, Vector2i(-1, -1), , "Nodes of side 2 (-1: rigid body)"))
 		((Real, u1, 0, , "Axis parameter on side 1 [-]"))
 		((Real, u2, 0, , "Axis parameter on side 2 [-]"))
+		((Vector3i, tri1, Vector3i(-1, -1, -1), , "Facet nodes of side 1 (-1: not a facet)"))
+		((Vector3i, tri2, Vector3i(-1, -1, -1), , "Facet nodes of side 2 (-1: not a facet)"))
+		((Vector3r, bary1, Vector3r::Zero(), , "Barycentric weights of the facet point of side 1 [-]"))
+		((Vector3r, bary2, Vector3r::Zero(), , "Barycentric weights of the facet point of side 2 [-]"))
 		((Vector3r, axis1, Vector3r::Zero(), , "Axis point (or centre) of side 1 [m]"))
 		((Vector3r, axis2, Vector3r::Zero(), , "Axis point (or centre) of side 2 [m]"))
 		((Vector3r, relVel, Vector3r::Zero(), , "Velocity of side 2 relative to side 1 at the contact point [m/s]"))
@@ -191,24 +195,27 @@ public:
 REGISTER_SERIALIZABLE(Law2_FlexContactGeom_FrictPhys_CundallStrack);
 
 class FlexElementEngine : public GlobalEngine {
-	std::vector<Body::id_t> cylinders; // cache of element ids
+	std::vector<Body::id_t> cylinders, facets; // cache of element ids
 	// Ruptured element bodies, kept alive: a body created in Python holds a Python reference,
 	// and dropping the last one here, in O.run()'s worker thread without the GIL, aborts YADE.
 	std::vector<shared_ptr<Body>> rupturedBodies;
 	size_t                  cachedBodyCount = 0;
 	void                    refresh();
+	void                    facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
 
 public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexElementEngine, GlobalEngine,
-		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp). A bond that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic' and 'flexRupture' in O.energy.",
+		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp) and :yref:`FlexFacet` membranes (constant-strain triangle, pkg/kernel/Membrane.hpp, and their follower pressure). An element that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic', 'flexMembraneElastic', 'flexPressureWork' and 'flexRupture' in O.energy.",
 		((int, nRuptured, 0, , "Number of bonds ruptured so far [-]"))
 		((int, parallelMin, 2000, , "Run the element loop on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (measured on 2 cores: a 200-element helix takes 2x longer with -j2) [-]"))
 		((vector<int>, rupturedIds, , Attr::readonly, "Ids of ruptured elements, in order"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, plastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, ruptIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, membIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, pressIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 	);
 	// clang-format on
 };
@@ -240,7 +247,7 @@ REGISTER_SERIALIZABLE(FlexTimeStepper);
 
 class FlexNewtonIntegrator : public NewtonIntegrator {
 	std::vector<Real>       thrMax;
-	std::vector<Body::id_t> movers, elements; // bodies with DOFs / element bodies (cached)
+	std::vector<Body::id_t> movers, elements, facets; // bodies with DOFs / cylinder and facet bodies (cached)
 	size_t                  cachedBodyCount = 0;
 	bool              simple          = false; // no clump, no aspherical body: the fast path applies
 	void              refresh();

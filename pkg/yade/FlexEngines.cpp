@@ -18,8 +18,13 @@ YADE_PLUGIN((FlexElementEngine)(FlexTimeStepper)(FlexNewtonIntegrator));
 void FlexElementEngine::refresh()
 {
 	cylinders.clear();
-	for (const auto& b : *scene->bodies)
-		if (b && b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) cylinders.push_back(b->id);
+	facets.clear();
+	for (const auto& b : *scene->bodies) {
+		if (!b || !b->shape) continue;
+		if (dynamic_cast<const FlexCylinder*>(b->shape.get())) cylinders.push_back(b->id);
+		else if (dynamic_cast<const FlexFacet*>(b->shape.get()))
+			facets.push_back(b->id);
+	}
 	cachedBodyCount = scene->bodies->size();
 }
 
@@ -85,6 +90,7 @@ void FlexElementEngine::action()
 			broken.push_back(id);
 		}
 	}
+	if (!facets.empty()) facetForces(broken);
 	{ // erase the collider pairs of bonded neighbours reported by the Ig2 (see FlexCommon.hpp)
 		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
 		std::lock_guard<std::mutex> lock(np.m);
@@ -99,10 +105,11 @@ void FlexElementEngine::action()
 	if (broken.empty()) return;
 	std::sort(broken.begin(), broken.end()); // same order whatever the thread count
 	for (Body::id_t id : broken) {
-		const FlexCylinder& c = static_cast<const FlexCylinder&>(*(*scene->bodies)[id]->shape);
-		// the bond's stored energy is released at rupture (elastic waves we do not resolve)
-		if (energy) scene->energy->add(c.elasticEnergy, "flexRupture", ruptIx, false);
-		for (int nid : { c.node1, c.node2 }) {
+		const flexa::Element e = flexa::elementOf(scene, id);
+		// the element's stored energy is released at rupture (elastic waves we do not resolve)
+		if (energy) scene->energy->add(e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
+		for (int k = 0; k < e.nNodes; ++k) {
+			const int nid = e.nodes[k];
 			if (!(*scene->bodies)[nid]) continue;
 			auto& el = static_cast<FlexNode&>(*(*scene->bodies)[nid]->shape).elements;
 			el.erase(std::remove(el.begin(), el.end(), id), el.end());
@@ -115,36 +122,105 @@ void FlexElementEngine::action()
 	refresh();
 }
 
+void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
+{
+	const bool      energy   = scene->trackEnergy;
+	const Material* lastMat  = nullptr;
+	const FlexMembraneMat* mat = nullptr;
+	flex::MembraneLaw      law;
+	auto&                  bodies = *scene->bodies;
+	const Real             dt     = scene->dt;
+	const long             n      = (long)facets.size();
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law)
+#endif
+	for (long k = 0; k < n; ++k) {
+		const Body::id_t id = facets[k];
+		Body*            b  = bodies[id].get();
+		if (!b) continue;
+		FlexFacet& f = static_cast<FlexFacet&>(*b->shape);
+		if (!f.attached) continue;
+		if (b->material.get() != lastMat) {
+			lastMat = b->material.get();
+			mat     = dynamic_cast<const FlexMembraneMat*>(lastMat);
+			if (mat) law = flexa::membraneLaw(*mat);
+		}
+		const int ids[3] = { f.node1, f.node2, f.node3 };
+		State*    s[3];
+		bool      ok = mat != nullptr;
+		for (int a = 0; a < 3 && ok; ++a)
+			ok = bodies[ids[a]] && (s[a] = bodies[ids[a]]->state.get());
+		if (!ok) continue;
+		const Vector3r             x[3] = { s[0]->pos, s[1]->pos, s[2]->pos };
+		const flex::MembraneResult r    = flex::membraneForces(x, flexa::membraneRest(f), law);
+		f.n1                            = r.n1;
+		f.n2                            = r.n2;
+		f.e1                            = r.e1;
+		f.e2                            = r.e2;
+		f.elasticEnergy                 = r.energy;
+		Vector3r fp                     = Vector3r::Zero();
+		if (f.pressure != 0) // follower pressure: p A n / 3 on each node, A n = (x2-x1)x(x3-x1)/2
+			fp = f.pressure * (x[1] - x[0]).cross(x[2] - x[0]) / 6;
+		for (int a = 0; a < 3; ++a)
+			scene->forces.addForce(ids[a], r.f[a] + fp);
+		b->state->pos = (x[0] + x[1] + x[2]) / 3;
+		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
+		if (energy) {
+			scene->energy->add(r.energy, "flexMembraneElastic", membIx, true);
+			// work done BY the pressure, booked with the opposite sign like YADE's gravWork
+			if (f.pressure != 0) scene->energy->add(-fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt, "flexPressureWork", pressIx, false);
+		}
+		if (r.rupture) {
+#ifdef YADE_OPENMP
+#pragma omp critical(flexRupture)
+#endif
+			broken.push_back(id);
+		}
+	}
+}
+
 Real FlexTimeStepper::omega2Bonds() const
 {
 	// Irons' bound with the element's own mass shares. If a node is lighter than the sum of
 	// the shares attached to it (user-modified mass), scale that element's omega^2 up.
 	auto&             bodies = *scene->bodies;
 	std::vector<Real> sumM(bodies.size(), 0), sumI(bodies.size(), 0);
+	struct Share {
+		const flexa::Element e;
+		Real                 m, I, w2;
+	};
+	std::vector<Share> shares;
 	for (const auto& b : bodies) {
 		if (!b || !b->shape) continue;
-		const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(b->shape.get());
-		if (!c || !c->attached) continue;
-		for (int nid : { c->node1, c->node2 }) {
-			sumM[nid] += c->massShare;
-			sumI[nid] += c->inertiaShare;
-		}
+		const flexa::Element e = flexa::elementOf(b->shape.get());
+		if (e.cyl && e.cyl->attached) shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2 });
+		else if (e.fac && e.fac->attached)
+			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 });
 	}
+	for (const Share& sh : shares)
+		for (int k = 0; k < sh.e.nNodes; ++k) {
+			sumM[sh.e.nodes[k]] += sh.m;
+			sumI[sh.e.nodes[k]] += sh.I;
+		}
 	Real w2 = 0;
-	for (const auto& b : bodies) {
-		if (!b || !b->shape) continue;
-		const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(b->shape.get());
-		if (!c || !c->attached) continue;
+	for (const Share& sh : shares) {
+		bool moves = false; // an element whose nodes are all clamped has no mode of its own
+		for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
+			const shared_ptr<Body>& nb = bodies[sh.e.nodes[k]];
+			moves = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
+		}
+		if (!moves) continue;
 		Real scale = 1;
-		for (int nid : { c->node1, c->node2 }) {
-			const shared_ptr<Body>& nb = bodies[nid];
+		for (int k = 0; k < sh.e.nNodes; ++k) {
+			const int               nid = sh.e.nodes[k];
+			const shared_ptr<Body>& nb  = bodies[nid];
 			if (!nb || !nb->isDynamic()) continue;
 			const State& s = *nb->state;
 			if (s.mass > 0) scale = std::max(scale, sumM[nid] / s.mass);
 			const Real I = s.inertia.minCoeff();
 			if (I > 0) scale = std::max(scale, sumI[nid] / I);
 		}
-		w2 = std::max(w2, c->omega2 * scale);
+		w2 = std::max(w2, sh.w2 * scale);
 	}
 	return w2;
 }
@@ -158,6 +234,8 @@ namespace {
 		if (const Sphere* s = dynamic_cast<const Sphere*>(b.shape.get())) radius = s->radius;
 		else if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(b.shape.get()))
 			radius = c->radius;
+		else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(b.shape.get()))
+			radius = f->radius;
 		else
 			radius = -1; // facet, box, wall: Ip2 takes the other side's radius
 		return true;
@@ -180,7 +258,8 @@ Real FlexTimeStepper::omega2Contacts() const
 	auto invSqrtMass = [&](Body::id_t id) -> Real {
 		if (id < 0 || id >= (Body::id_t)bodies.size()) return 0;
 		const shared_ptr<Body>& b = bodies[id];
-		if (!b || !b->isDynamic() || !(b->state->mass > 0)) return 0;
+		// a body with every DOF blocked does not move: no row of its own, infinite mass to others
+		if (!b || !b->isDynamic() || !(b->state->mass > 0) || b->state->blockedDOFs == State::DOF_ALL) return 0;
 		return 1 / std::sqrt(b->state->mass);
 	};
 	auto addRot = [&](Body::id_t id, Real ks, Real w, Real lever) {
@@ -197,15 +276,29 @@ Real FlexTimeStepper::omega2Contacts() const
 			struct Entry {
 				Body::id_t id;
 				Real       w, lever;
-			} e[4];
+			} e[6];
 			int ne = 0;
 			if (const FlexContactGeom* g = dynamic_cast<const FlexContactGeom*>(I->geom.get())) {
 				if (!g->active) continue;
 				const Vector2i*  nodes[2] = { &g->nodes1, &g->nodes2 };
+				const Vector3i*  tris[2]  = { &g->tri1, &g->tri2 };
+				const Vector3r*  bary[2]  = { &g->bary1, &g->bary2 };
 				const Real       us[2] = { g->u1, g->u2 }, rs[2] = { g->refR1, g->refR2 };
 				const Body::id_t ids[2] = { I->getId1(), I->getId2() };
 				for (int s = 0; s < 2; ++s) {
-					if ((*nodes[s])[0] < 0) e[ne++] = { ids[s], 1, rs[s] };
+					if ((*tris[s])[0] >= 0) {
+						// facet: forces only, each node's share bounded by w_a + (load factor - 1)
+						Vector3r x[3];
+						bool     ok = true;
+						for (int a = 0; a < 3 && ok; ++a) {
+							const State* st = flexa::stateOf(scene, (*tris[s])[a]);
+							if ((ok = st != nullptr)) x[a] = st->pos;
+						}
+						const Real extra = ok ? flex::triangleLoadFactor(x, rs[s]) - 1 : 0;
+						for (int a = 0; a < 3; ++a)
+							e[ne++] = { (*tris[s])[a], (*bary[s])[a] + extra, 0 };
+					} else if ((*nodes[s])[0] < 0)
+						e[ne++] = { ids[s], 1, rs[s] };
 					else {
 						e[ne++] = { (*nodes[s])[0], 1 - us[s], rs[s] };
 						e[ne++] = { (*nodes[s])[1], us[s], rs[s] };
@@ -240,17 +333,28 @@ Real FlexTimeStepper::omega2Contacts() const
 		const Real k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
 		const Real s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
 		const Real k  = std::max(kn, ks);
-		// each side: its DOF bodies (an element's two nodes, else the body itself)
-		Body::id_t ids[2][2];
-		int        nid[2];
-		Real       smax[2];
+		// each side: its DOF bodies (an element's nodes, else the body itself) and the excess
+		// kappa of a node's share over its weight (facets: load factor - 1; else 0)
+		Body::id_t  ids[2][3];
+		int         nid[2];
+		Real        smax[2], kappa[2];
 		const Body* bs[2] = { b1.get(), b2.get() };
 		for (int s = 0; s < 2; ++s) {
-			const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(bs[s]->shape.get());
-			if (c) {
-				ids[s][0] = c->node1;
-				ids[s][1] = c->node2;
-				nid[s]    = 2;
+			const flexa::Element el = flexa::elementOf(bs[s]->shape.get());
+			kappa[s]                = 0;
+			if (el.nNodes) {
+				nid[s] = el.nNodes;
+				for (int a = 0; a < el.nNodes; ++a)
+					ids[s][a] = el.nodes[a];
+				if (el.fac) {
+					Vector3r x[3];
+					bool     ok = true;
+					for (int a = 0; a < 3 && ok; ++a) {
+						const State* st = flexa::stateOf(scene, el.nodes[a]);
+						if ((ok = st != nullptr)) x[a] = st->pos;
+					}
+					kappa[s] = ok ? flex::triangleLoadFactor(x, el.radius) - 1 : 0;
+				}
 			} else {
 				ids[s][0] = bs[s]->id;
 				nid[s]    = 1;
@@ -263,8 +367,11 @@ Real FlexTimeStepper::omega2Contacts() const
 			for (int a = 0; a < nid[s]; ++a) {
 				const Real ia = invSqrtMass(ids[s][a]);
 				if (ia == 0) continue;
-				row[ids[s][a]] += k * ia * (ia + smax[1 - s]); // worst position: all weight here
-				addRot(ids[s][a], ks, 1, s ? r2 : r1);
+				// worst position: all weight on this node; its side's other nodes carry kappa each
+				const Real own   = (1 + kappa[s]) * ia + (nid[s] - 1) * kappa[s] * smax[s];
+				const Real other = smax[1 - s] * (1 + nid[1 - s] * kappa[1 - s]);
+				row[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
+				if (!flexa::elementOf(bs[s]->shape.get()).fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
 	Real w2 = 0;
@@ -303,11 +410,15 @@ void FlexNewtonIntegrator::refresh()
 	simple = true;
 	movers.clear();
 	elements.clear();
+	facets.clear();
 	for (const auto& b : *scene->bodies) {
 		if (!b) continue;
 		if (b->isClump() || b->isClumpMember() || (exactAsphericalRot && b->isAspherical())) simple = false;
 		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) elements.push_back(b->id);
-		else movers.push_back(b->id);
+		else if (b->shape && dynamic_cast<const FlexFacet*>(b->shape.get()))
+			facets.push_back(b->id);
+		else
+			movers.push_back(b->id);
 	}
 	cachedBodyCount = scene->bodies->size();
 }
@@ -327,6 +438,17 @@ void FlexNewtonIntegrator::flagElements()
 		const Real d = std::max((s1->pos - c->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - c->boundRef2).cwiseAbs().maxCoeff());
 		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 		if (flag == 2) break;
+	}
+	for (Body::id_t id : facets) {
+		if (flag == 2) break;
+		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		if (!b || !b->bound) continue;
+		const FlexFacet* f  = static_cast<const FlexFacet*>(b->shape.get());
+		const State *    s1 = flexa::stateOf(scene, f->node1), *s2 = flexa::stateOf(scene, f->node2), *s3 = flexa::stateOf(scene, f->node3);
+		if (!s1 || !s2 || !s3) continue;
+		const Real d = std::max({ (s1->pos - f->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - f->boundRef2).cwiseAbs().maxCoeff(),
+		                          (s3->pos - f->boundRef3).cwiseAbs().maxCoeff() });
+		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 	}
 	maxVelocitySq = std::max(maxVelocitySq, flag);
 }

@@ -6,7 +6,8 @@
 
 namespace yade {
 
-YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Law2_FlexContactGeom_FrictPhys_CundallStrack));
+YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Ig2_Sphere_FlexFacet_FlexContactGeom)(
+        Ig2_FlexCylinder_FlexFacet_FlexContactGeom)(Ig2_FlexFacet_FlexFacet_FlexContactGeom)(Law2_FlexContactGeom_FrictPhys_CundallStrack));
 
 namespace {
 	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
@@ -50,7 +51,8 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	int        nb  = 0;
 	// `overlap` is bit-identical to what a neighbour's test computes for this element (same
 	// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
-	const bool own = overlap > 0 && flexa::owns(scene, cyl, I->getId2(), P, R, overlap, ps.u, ps.point, beaten, nb);
+	const flexa::Element self = flexa::elementOf(&cyl);
+	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -99,9 +101,9 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	Body::id_t beaten1[8], beaten2[8];
 	int        nb1 = 0, nb2 = 0;
 	// each side tests its own neighbours with the other side's closest point as a probe
-	const bool own = overlap > 0
-	        && flexa::owns(scene, c1, I->getId1(), ss.p2, c2.radius, flexa::probeOverlap(scene, c1, ss.p2, c2.radius), ss.s, ss.p1, beaten1, nb1)
-	        && flexa::owns(scene, c2, I->getId2(), ss.p1, c1.radius, flexa::probeOverlap(scene, c2, ss.p1, c1.radius), ss.t, ss.p2, beaten2, nb2);
+	const flexa::Element e1 = flexa::elementOf(&c1), e2 = flexa::elementOf(&c2);
+	const bool           own = overlap > 0 && flexa::owns(scene, e1, I->getId1(), ss.p2, c2.radius, flexa::probe(scene, e1, ss.p2, c2.radius), beaten1, nb1)
+	        && flexa::owns(scene, e2, I->getId2(), ss.p1, c1.radius, flexa::probe(scene, e2, ss.p1, c1.radius), beaten2, nb2);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -123,10 +125,166 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	return true;
 }
 
+
+namespace {
+	// Facet side of a contact: node states and current positions, or false if a node is gone.
+	struct FacetNodes {
+		const State* s[3];
+		Vector3r     x[3], v[3];
+		bool         load(const Scene* scene, const FlexFacet& f, const Vector3r& shift)
+		{
+			const int ids[3] = { f.node1, f.node2, f.node3 };
+			for (int k = 0; k < 3; ++k) {
+				if (!(s[k] = flexa::stateOf(scene, ids[k]))) return false;
+				x[k] = s[k]->pos + shift;
+				v[k] = s[k]->vel;
+			}
+			return true;
+		}
+		Vector3r normal() const { return (x[1] - x[0]).cross(x[2] - x[0]).normalized(); }
+	};
+
+	// Contact normal (from the other body towards the facet) for a probe point P whose closest
+	// point on the facet is pt. Face region: the facet normal, on the side the contact started
+	// from (kept while the contact lasts, so a probe pushed through the thin membrane is pushed
+	// back); the overlap is measured from that side. Edges and vertices: from P to the closest
+	// point (continuous with the face normal at the region boundary).
+	Vector3r facetNormal(const FacetNodes& fn, const flex::PointTriangle& pt, const Vector3r& P, const Vector3r& side, bool isNew, const Vector3r& prev, Real& dist)
+	{
+		const Vector3r d = pt.point - P; // from P to the facet
+		const Vector3r nf = fn.normal();
+		if (pt.support == 7) {
+			Real s = isNew ? (d.dot(nf) != 0 ? d.dot(nf) : (pt.point - side).dot(nf)) : prev.dot(nf);
+			const Vector3r n = s >= 0 ? nf : Vector3r(-nf);
+			dist             = d.dot(n);
+			return n;
+		}
+		dist = d.norm();
+		if (dist > 0) return d / dist;
+		return isNew ? ((pt.point - side).dot(nf) >= 0 ? nf : Vector3r(-nf)) : prev;
+	}
+}
+
+bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	const Real       R  = static_cast<const Sphere&>(*cm1).radius;
+	const FlexFacet& fa = static_cast<const FlexFacet&>(*cm2);
+	const bool       isNew = !I->geom;
+	FacetNodes       fn;
+	if (!fn.load(scene, fa, shift2)) {
+		if (isNew) return false;
+		static_cast<FlexContactGeom&>(*I->geom).active = false;
+		return true;
+	}
+	const Vector3r            P       = st1.pos;
+	const flex::PointTriangle pt      = flex::closestPointOnTriangle(P, fn.x[0], fn.x[1], fn.x[2]);
+	const Real                overlap = R + fa.radius - (P - pt.point).norm(); // for ownership (probe arithmetic)
+	if (isNew && overlap <= 0 && !force) return false;
+	Body::id_t           beaten[8];
+	int                  nb   = 0;
+	const flexa::Element self = flexa::elementOf(&fa);
+	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb);
+	if (isNew && !own) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	Real             dist;
+	g.normal           = facetNormal(fn, pt, P, P, isNew, g.normal, dist);
+	g.penetrationDepth = R + fa.radius - dist;
+	g.refR1            = R;
+	g.refR2            = fa.radius;
+	g.contactPoint     = P + (R - 0.5 * g.penetrationDepth) * g.normal;
+	g.nodes1 = g.nodes2 = Vector2i(-1, -1);
+	g.tri1              = Vector3i(-1, -1, -1);
+	g.tri2              = Vector3i(fa.node1, fa.node2, fa.node3);
+	g.bary2             = Vector3r(pt.w[0], pt.w[1], pt.w[2]);
+	g.axis1             = P;
+	g.axis2             = pt.point;
+	const Vector3r v1   = st1.vel + st1.angVel.cross(g.contactPoint - P);
+	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, g.contactPoint - pt.point);
+	g.relVel            = v2 - v1;
+	finishGeom(scene, g, own, I, I->getId1(), beaten, nb, -1, nullptr, 0);
+	return true;
+}
+
+bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	const FlexCylinder&  c  = static_cast<const FlexCylinder&>(*cm1);
+	const FlexFacet&     fa = static_cast<const FlexFacet&>(*cm2);
+	const flexa::Element ec = flexa::elementOf(&c), ef = flexa::elementOf(&fa);
+	if (flexa::shareNode(ec, ef)) {
+		I->functorCache.geomExists = false;
+		flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
+		return false;
+	}
+	const bool   isNew = !I->geom;
+	const State *a0 = flexa::stateOf(scene, c.node1), *a1 = flexa::stateOf(scene, c.node2);
+	FacetNodes   fn;
+	if (!a0 || !a1 || !fn.load(scene, fa, shift2)) {
+		if (isNew) return false;
+		static_cast<FlexContactGeom&>(*I->geom).active = false;
+		return true;
+	}
+	const flex::SegmentTriangle st      = flex::closestPointsSegmentTriangle(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2]);
+	const Real                  overlap = c.radius + fa.radius - (st.p1 - st.t.point).norm();
+	if (isNew && overlap <= 0 && !force) return false;
+	Body::id_t beaten1[8], beaten2[8];
+	int        nb1 = 0, nb2 = 0;
+	// each side tests its own neighbours with the other side's closest point as a probe
+	const bool own = overlap > 0 && flexa::owns(scene, ec, I->getId1(), st.t.point, fa.radius, flexa::probe(scene, ec, st.t.point, fa.radius), beaten1, nb1)
+	        && flexa::owns(scene, ef, I->getId2(), st.p1, c.radius, flexa::probe(scene, ef, st.p1, c.radius), beaten2, nb2);
+	if (isNew && !own) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	Real             dist;
+	g.normal           = facetNormal(fn, st.t, st.p1, 0.5 * (a0->pos + a1->pos), isNew, g.normal, dist);
+	g.penetrationDepth = c.radius + fa.radius - dist;
+	g.refR1            = c.radius;
+	g.refR2            = fa.radius;
+	g.contactPoint     = st.p1 + (c.radius - 0.5 * g.penetrationDepth) * g.normal;
+	g.nodes1           = Vector2i(c.node1, c.node2);
+	g.nodes2           = Vector2i(-1, -1);
+	g.tri1             = Vector3i(-1, -1, -1);
+	g.tri2             = Vector3i(fa.node1, fa.node2, fa.node3);
+	g.u1               = st.s;
+	g.bary2            = Vector3r(st.t.w[0], st.t.w[1], st.t.w[2]);
+	g.axis1            = st.p1;
+	g.axis2            = st.t.point;
+	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
+	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, g.contactPoint - st.t.point);
+	g.relVel           = v2 - v1;
+	finishGeom(scene, g, own, I, I->getId2(), beaten1, nb1, I->getId1(), beaten2, nb2);
+	return true;
+}
+
+bool Ig2_FlexFacet_FlexFacet_FlexContactGeom::go(
+        const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>& I)
+{
+	// neighbours or not: no facet-facet contact (see the class doc); switch the pair off now and
+	// have FlexElementEngine erase it after the loop
+	I->functorCache.geomExists = false;
+	flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
+	return false;
+}
+
 namespace {
 	// Put force F (acting at c) on one side: a rigid body, or the two nodes of a segment.
-	void applySide(Scene* scene, Body::id_t body, const Vector2i& nodes, Real u, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
+	void applySide(Scene* scene, Body::id_t body, const Vector2i& nodes, const Vector3i& tri, Real u, const Vector3r& bary, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
 	{
+		if (tri[0] >= 0) { // facet: forces only, by the adjoint of the facet point velocity
+			Vector3r x[3], f[3];
+			for (int k = 0; k < 3; ++k) {
+				const State* s = flexa::stateOf(scene, tri[k]);
+				if (!s) return;
+				x[k] = s->pos;
+			}
+			const double w[3] = { bary[0], bary[1], bary[2] };
+			flex::distributeToTriangle(x, w, c - axisPoint, F, f);
+			for (int k = 0; k < 3; ++k)
+				scene->forces.addForce(tri[k], f[k]);
+			return;
+		}
 		if (nodes[0] < 0) {
 			scene->forces.addForce(body, F);
 			scene->forces.addTorque(body, (c - axisPoint).cross(F));
@@ -165,8 +323,8 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 	p.normalForce                    = r.normalForce;
 	p.shearForce                     = r.shearForce;
 	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
-	applySide(scene, I->getId1(), g.nodes1, g.u1, g.axis1, g.contactPoint, -F);
-	applySide(scene, I->getId2(), g.nodes2, g.u2, g.axis2, g.contactPoint, F);
+	applySide(scene, I->getId1(), g.nodes1, g.tri1, g.u1, g.bary1, g.axis1, g.contactPoint, -F);
+	applySide(scene, I->getId2(), g.nodes2, g.tri2, g.u2, g.bary2, g.axis2, g.contactPoint, F);
 	if (scene->trackEnergy) {
 		scene->energy->add(r.elasticEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
 		scene->energy->add(r.frictionWork, "flexFriction", frictIx, false);

@@ -9,13 +9,13 @@
 
 namespace yade {
 
-YADE_PLUGIN((FlexNode)(FlexMat)(FlexCylinder)(FlexContactGeom)(Bo1_FlexCylinder_Aabb));
+YADE_PLUGIN((FlexNode)(FlexMat)(FlexCylinder)(FlexContactGeom)(Bo1_FlexCylinder_Aabb)(FlexMembraneMat)(FlexFacet)(Bo1_FlexFacet_Aabb));
 
 namespace {
-	[[noreturn]] void bad(int id, const std::string& what)
+	[[noreturn]] void bad(int id, const std::string& what, const char* cls = "FlexCylinder")
 	{
 		std::ostringstream os;
-		os << "FlexCylinder #" << id << ": " << what;
+		os << cls << " #" << id << ": " << what;
 		throw std::invalid_argument(os.str());
 	}
 	bool finite(const Vector3r& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -100,6 +100,73 @@ void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& b
 	aabb->max           = s1->pos.cwiseMax(s2->pos) + r;
 	c.boundRef1         = s1->pos; // FlexNewtonIntegrator measures the nodes' motion from here
 	c.boundRef2         = s2->pos;
+}
+
+void FlexFacet::attach(int selfId)
+{
+	auto fail = [selfId](const std::string& what) { bad(selfId, what, "FlexFacet"); };
+	Scene* scene = Omega::instance().getScene().get();
+	if (selfId < 0 || selfId >= (int)scene->bodies->size() || !(*scene->bodies)[selfId]) fail("no such body");
+	const shared_ptr<Body>& self = (*scene->bodies)[selfId];
+	if (self->shape.get() != this) fail("the body with this id does not hold this shape");
+	if (attached) fail("already attached");
+	if (!(radius > 0) || !std::isfinite(radius)) fail("radius (half thickness) must be positive and finite, got " + std::to_string(radius));
+	const int ids[3] = { node1, node2, node3 };
+	if (node1 == node2 || node2 == node3 || node1 == node3) fail("two corners are the same node");
+	for (int id : ids) {
+		if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id]) fail("corner node #" + std::to_string(id) + " does not exist");
+		const shared_ptr<Body>& n = (*scene->bodies)[id];
+		if (!n->shape || !dynamic_cast<FlexNode*>(n->shape.get()))
+			fail("corner body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape")) + ", not a FlexNode");
+		if (!finite(n->state->pos)) fail("corner node #" + std::to_string(id) + " has a non-finite position");
+	}
+	const FlexMembraneMat* mat = dynamic_cast<const FlexMembraneMat*>(self->material.get());
+	if (!mat) fail("material must be a FlexMembraneMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
+	if (!(mat->stiffness > 0) || !std::isfinite(mat->stiffness)) fail("material stiffness (E t) must be positive and finite");
+	if (!(mat->arealDensity > 0) || !std::isfinite(mat->arealDensity)) fail("material arealDensity must be positive and finite");
+	if (!(mat->membranePoisson > -1 && mat->membranePoisson < 0.5)) fail("material membranePoisson must be in (-1, 0.5)");
+	if (!(mat->young > 0) || !std::isfinite(mat->young)) fail("material young (contact modulus) must be positive and finite");
+	State* s[3];
+	for (int k = 0; k < 3; ++k)
+		s[k] = (*scene->bodies)[ids[k]]->state.get();
+	const flex::MembraneRest rest = flex::makeMembraneRest(s[0]->pos, s[1]->pos, s[2]->pos);
+	if (!(rest.A0 > 0))
+		fail("nodes #" + std::to_string(node1) + ", #" + std::to_string(node2) + ", #" + std::to_string(node3) + " are collinear or coincident (zero area)");
+	// Dm is upper triangular: store its entries (|a|, b.e1, b.e2)
+	restEdges = Vector3r(1 / rest.DmInv(0, 0), -rest.DmInv(0, 1) / (rest.DmInv(0, 0) * rest.DmInv(1, 1)), 1 / rest.DmInv(1, 1));
+	area0     = rest.A0;
+	massShare = mat->arealDensity * area0 / 3;
+	// any positive inertia will do (facets put no moment on their nodes): that of the node's
+	// share spread over its third of the facet
+	inertiaShare = massShare * area0 / 18;
+	omega2       = flex::membraneMaxOmega2(rest, flexa::membraneLaw(*mat), massShare);
+	for (State* st : s) {
+		st->mass += massShare;
+		st->inertia += Vector3r::Constant(inertiaShare);
+	}
+	for (int id : ids)
+		static_cast<FlexNode*>((*scene->bodies)[id]->shape.get())->elements.push_back(selfId);
+	self->setDynamic(false);
+	self->state->pos = (s[0]->pos + s[1]->pos + s[2]->pos) / 3;
+	attached         = true;
+}
+
+void Bo1_FlexFacet_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, const Se3r&, const Body*)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Bo1_FlexFacet_Aabb: periodic scenes are not supported by yade-flex yet.");
+	FlexFacet&   f  = static_cast<FlexFacet&>(*sh);
+	const State* s1 = flexa::stateOf(scene, f.node1);
+	const State* s2 = flexa::stateOf(scene, f.node2);
+	const State* s3 = flexa::stateOf(scene, f.node3);
+	if (!s1 || !s2 || !s3) return;
+	if (!bv) bv = shared_ptr<Bound>(new Aabb);
+	Aabb*          aabb = static_cast<Aabb*>(bv.get());
+	const Vector3r r    = Vector3r::Constant(f.radius);
+	aabb->min           = s1->pos.cwiseMin(s2->pos).cwiseMin(s3->pos) - r;
+	aabb->max           = s1->pos.cwiseMax(s2->pos).cwiseMax(s3->pos) + r;
+	f.boundRef1         = s1->pos;
+	f.boundRef2         = s2->pos;
+	f.boundRef3         = s3->pos;
 }
 
 } // namespace yade

@@ -1,4 +1,4 @@
-"""yade-flex: deformable cylinders (wires, rings, ropes) for YADE.
+"""yade-flex: deformable cylinders (wires, rings, ropes) and facets (membranes) for YADE.
 
 Use inside a YADE session or script::
 
@@ -11,6 +11,8 @@ Units are SI throughout: m, kg, s, N, Pa.
 """
 from .materials import flex_material, steel, rope_6x7_8mm
 from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
+from .membrane import (membrane_material, geotextile, facet, triangle_mesh, sheet, lining, read_mesh, mesh_file,
+                       membrane_state)
 from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on
 from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
@@ -19,6 +21,8 @@ from .rope import rope_around
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
     "node", "cylinder", "chain", "ring", "helix", "net", "fix", "check_finite",
+    "membrane_material", "geotextile", "facet", "triangle_mesh", "sheet", "lining", "read_mesh", "mesh_file",
+    "membrane_state",
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
     "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
 ]

@@ -3,9 +3,11 @@ import math
 
 from yade import O
 from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop, NewtonIntegrator,
-                          Bo1_Sphere_Aabb, Bo1_Facet_Aabb, Bo1_Box_Aabb, Bo1_Wall_Aabb, Bo1_FlexCylinder_Aabb,
+                          Bo1_Sphere_Aabb, Bo1_Facet_Aabb, Bo1_Box_Aabb, Bo1_Wall_Aabb, Bo1_FlexCylinder_Aabb, Bo1_FlexFacet_Aabb,
                           Ig2_Sphere_Sphere_ScGeom, Ig2_Facet_Sphere_ScGeom, Ig2_Box_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom,
                           Ig2_Sphere_FlexCylinder_FlexContactGeom, Ig2_FlexCylinder_FlexCylinder_FlexContactGeom,
+                          Ig2_Sphere_FlexFacet_FlexContactGeom, Ig2_FlexCylinder_FlexFacet_FlexContactGeom,
+                          Ig2_FlexFacet_FlexFacet_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator,
                           FlexCylinder, FlexNode, Sphere)
@@ -24,7 +26,7 @@ def _min_contact_radius():
 
 
 def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None):
-    """Standard engine list for scenes with yade-flex elements, spheres, facets, boxes, walls.
+    """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
     joule goes to a physical mechanism unless the user asks otherwise (O.energy books it as
@@ -48,10 +50,11 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
         verlet = 0.5 * r if math.isfinite(r) else 0.0
     return [
         ForceResetter(),
-        InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
+        InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_FlexFacet_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
                               verletDist=verlet, label="collider"),
         InteractionLoop(
             [Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
+             Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
             [Ip2_FrictMat_FrictMat_FrictPhys()],
             [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw")],

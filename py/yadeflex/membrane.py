@@ -1,0 +1,273 @@
+"""Membranes of deformable facets: the geotextile lining, sheets, any triangle mesh.
+
+A FlexFacet is a thick triangle (thickness = 2 x its radius, rounded edges and corners) over
+three FlexNodes; its membrane law is a constant-strain triangle (St. Venant-Kirchhoff, plane
+stress, optional tension-field wrinkling). Each builder validates its input and raises
+ValueError naming the problem before anything is added to the scene.
+"""
+import math
+import os
+import struct
+
+from yade import O
+from yade.wrapper import Body, FlexNode, FlexFacet, FlexMembraneMat
+from yade.minieigenHP import Vector3
+
+from .builders import _positive, check_finite, fix
+
+
+def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, strength=math.inf,
+                      contact_young=1e9, friction_deg=30.0, contact_ratio=0.25, label=""):
+    """A FlexMembraneMat, validated.
+
+    stiffness [N/m]: tensile stiffness E t of the membrane; areal_density [kg/m2]; poisson [-];
+    tension_only: the fabric wrinkles instead of taking compression; strength [N/m]: a facet
+    ruptures when its larger principal membrane force reaches it (inf: never);
+    contact_young [Pa]: contact modulus (contact kn = 2 E1 r1 E2 r2 / (E1 r1 + E2 r2) with r the
+    facet's half thickness); friction_deg [deg]; contact_ratio [-] ks/kn of contacts.
+    """
+    _positive("membrane stiffness", stiffness)
+    _positive("areal_density", areal_density)
+    _positive("contact_young", contact_young)
+    if not (-1 < poisson < 0.5):
+        raise ValueError(f"poisson must be in (-1, 0.5), got {poisson!r}")
+    if not strength > 0:
+        raise ValueError(f"strength must be positive (inf to disable), got {strength!r}")
+    if not (0 <= friction_deg < 90):
+        raise ValueError(f"friction_deg must be in [0, 90), got {friction_deg!r}")
+    return FlexMembraneMat(stiffness=stiffness, arealDensity=areal_density, membranePoisson=poisson,
+                           tensionOnly=bool(tension_only), strength=strength, young=contact_young,
+                           poisson=contact_ratio, frictionAngle=math.radians(friction_deg),
+                           density=areal_density / 0.002, label=label)
+
+
+def geotextile(label="geotextile", **kw):
+    """Woven polypropylene geotextile, typical catalogue class (not a specific product):
+    tensile strength 40 kN/m at about 15% strain, secant stiffness E t = 250 kN/m, areal mass
+    0.3 kg/m2, thickness about 2 mm (use thickness=0.002 in the builders), Poisson 0.3,
+    tension-only (fabrics wrinkle). Override any value by keyword."""
+    args = dict(stiffness=250e3, areal_density=0.3, poisson=0.3, tension_only=True, strength=40e3,
+                friction_deg=30.0, label=label)
+    args.update(kw)
+    return membrane_material(**args)
+
+
+def _membrane_material(material):
+    if isinstance(material, FlexMembraneMat):
+        if material.id < 0:
+            O.materials.append(material)
+        return material
+    if isinstance(material, str):
+        for m in O.materials:
+            if m.label == material:
+                if not isinstance(m, FlexMembraneMat):
+                    raise ValueError(f"material '{material}' is a {type(m).__name__}, not a FlexMembraneMat")
+                return m
+        raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
+    raise ValueError(f"material must be a FlexMembraneMat or the label of one, got {material!r}")
+
+
+def _node(pos, radius, mat):
+    b = Body()
+    b.shape = FlexNode(radius=radius)
+    b.state.pos = pos
+    b.bounded = False
+    b.material = mat
+    return O.bodies.append(b)
+
+
+def facet(node1, node2, node3, material, thickness):
+    """A deformable facet over three existing FlexNode bodies; thickness [m] (= 2 x contact
+    radius). Returns its id."""
+    t = _positive("facet thickness", thickness)
+    mat = _membrane_material(material)
+    ids = (node1, node2, node3)
+    for n in ids:
+        if not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
+            raise ValueError(f"facet corner {n!r} is not the id of an existing body")
+        if not isinstance(O.bodies[n].shape, FlexNode):
+            raise ValueError(f"facet corner #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    b = Body()
+    b.shape = FlexFacet(node1=node1, node2=node2, node3=node3, radius=0.5 * t)
+    b.material = mat
+    b.state.pos = (O.bodies[node1].state.pos + O.bodies[node2].state.pos + O.bodies[node3].state.pos) / 3
+    i = O.bodies.append(b)
+    try:
+        b.shape.attach(i)
+    except Exception:
+        O.bodies.erase(i)
+        raise
+    return i
+
+
+def triangle_mesh(points, triangles, material, thickness, fixed=()):
+    """Membrane from a triangle mesh: points [(x, y, z)] [m], triangles [(i, j, k)] indices into
+    points; fixed: indices of points to clamp. Returns (node_ids, facet_ids). Every triangle is
+    checked (indices, area) before anything is added."""
+    pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+    tris = []
+    for k, t in enumerate(triangles):
+        try:
+            tri = tuple(int(i) for i in t)
+        except (TypeError, ValueError):
+            raise ValueError(f"triangle {k} must be 3 point indices, got {t!r}") from None
+        if len(tri) != 3 or any(i < 0 or i >= len(pts) for i in tri):
+            raise ValueError(f"triangle {k} = {t!r}: indices must be 3 values in [0, {len(pts) - 1}]")
+        a, b, c = (pts[i] for i in tri)
+        area2 = (b - a).cross(c - a).norm()
+        scale = max((b - a).norm(), (c - a).norm(), (c - b).norm())
+        if not area2 > 1e-12 * scale * scale:
+            raise ValueError(f"triangle {k} = {tri} is degenerate (collinear or coincident points)")
+        tris.append(tri)
+    if not tris:
+        raise ValueError("a membrane needs at least one triangle")
+    for i in fixed:
+        if not (isinstance(i, int) and 0 <= i < len(pts)):
+            raise ValueError(f"fixed point index {i!r} is out of range")
+    t = _positive("membrane thickness", thickness)
+    mat = _membrane_material(material)
+    used = sorted({i for tri in tris for i in tri})
+    nid = {i: _node(pts[i], 0.5 * t, mat) for i in used}
+    facets = [facet(nid[a], nid[b], nid[c], mat, t) for a, b, c in tris]
+    fix([nid[i] for i in fixed if i in nid])
+    return [nid.get(i, -1) for i in range(len(pts))], facets
+
+
+def sheet(nx, ny, size, thickness, material, origin=(0, 0, 0), fix_border=True, pattern="crossed"):
+    """Rectangular sheet in the plane z = origin.z, size = (lx, ly) [m], with nx x ny cells.
+    pattern 'crossed' splits cells along alternating diagonals (no preferred direction),
+    'right' along one diagonal. Returns dict(grid=node ids [i][j], facets, border)."""
+    if not (isinstance(nx, int) and isinstance(ny, int) and nx >= 1 and ny >= 1):
+        raise ValueError(f"nx, ny must be positive integers, got {nx!r}, {ny!r}")
+    if pattern not in ("crossed", "right"):
+        raise ValueError(f"pattern must be 'crossed' or 'right', got {pattern!r}")
+    lx, ly = (_positive("sheet size", s) for s in size)
+    o = check_finite("sheet origin", origin)
+    pts = [o + Vector3(lx * i / nx, ly * j / ny, 0) for i in range(nx + 1) for j in range(ny + 1)]
+    idx = lambda i, j: i * (ny + 1) + j
+    tris = []
+    for i in range(nx):
+        for j in range(ny):
+            a, b, c, d = idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)
+            if pattern == "right" or (i + j) % 2 == 0:
+                tris += [(a, b, c), (a, c, d)]
+            else:
+                tris += [(a, b, d), (b, c, d)]
+    border = [idx(i, j) for i in range(nx + 1) for j in range(ny + 1) if i in (0, nx) or j in (0, ny)]
+    nodes, facets = triangle_mesh(pts, tris, material, thickness, fixed=border if fix_border else ())
+    grid = [[nodes[idx(i, j)] for j in range(ny + 1)] for i in range(nx + 1)]
+    return dict(grid=grid, facets=facets, border=[nodes[k] for k in border])
+
+
+def lining(radius, height, n_around, n_height, thickness, material, center=(0, 0, 0), fix_bottom=False):
+    """Cylindrical lining (open tube, axis along z from center.z to center.z + height), radius
+    [m], n_around x n_height cells, crossed diagonals. Facet normals point outwards, so a
+    positive FlexFacet.pressure pushes the lining outwards (a fill's pressure). Returns
+    dict(rings=node ids [k][i] (k along the height), facets, bottom, top)."""
+    R = _positive("lining radius", radius)
+    H = _positive("lining height", height)
+    if not (isinstance(n_around, int) and n_around >= 3 and isinstance(n_height, int) and n_height >= 1):
+        raise ValueError(f"need n_around >= 3 and n_height >= 1 integers, got {n_around!r}, {n_height!r}")
+    c = check_finite("lining center", center)
+    pts = [c + Vector3(R * math.cos(2 * math.pi * i / n_around), R * math.sin(2 * math.pi * i / n_around), H * k / n_height)
+           for k in range(n_height + 1) for i in range(n_around)]
+    idx = lambda k, i: k * n_around + (i % n_around)
+    tris = []
+    for k in range(n_height):
+        for i in range(n_around):
+            a, b, cc, d = idx(k, i), idx(k, i + 1), idx(k + 1, i + 1), idx(k + 1, i)
+            if (i + k) % 2 == 0:
+                tris += [(a, b, cc), (a, cc, d)]
+            else:
+                tris += [(a, b, d), (b, cc, d)]
+    bottom = [idx(0, i) for i in range(n_around)]
+    nodes, facets = triangle_mesh(pts, tris, material, thickness, fixed=bottom if fix_bottom else ())
+    rings = [[nodes[idx(k, i)] for i in range(n_around)] for k in range(n_height + 1)]
+    return dict(rings=rings, facets=facets, bottom=rings[0], top=rings[-1])
+
+
+def read_mesh(path):
+    """(points, triangles) from a GTS or STL (ASCII or binary) file; STL vertices are merged."""
+    if not os.path.isfile(path):
+        raise ValueError(f"mesh file {path!r} does not exist")
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".gts":
+        return _read_gts(path)
+    if ext == ".stl":
+        return _read_stl(path)
+    raise ValueError(f"mesh file {path!r}: unknown format (use .gts or .stl)")
+
+
+def _read_gts(path):
+    with open(path) as f:
+        lines = [ln.split() for ln in f if ln.strip() and not ln.lstrip().startswith("#")]
+    try:
+        nv, ne, nf = (int(x) for x in lines[0][:3])
+        pts = [tuple(float(x) for x in ln[:3]) for ln in lines[1:1 + nv]]
+        edges = [tuple(int(x) - 1 for x in ln[:2]) for ln in lines[1 + nv:1 + nv + ne]]
+        tris = []
+        for ln in lines[1 + nv + ne:1 + nv + ne + nf]:
+            e = [edges[int(x) - 1] for x in ln[:3]]
+            v = [e[0][0], e[0][1]]
+            v.append(next(x for x in e[1] + e[2] if x not in v))
+            tris.append(tuple(v))
+    except (ValueError, IndexError, StopIteration) as err:
+        raise ValueError(f"{path}: not a valid GTS file ({err})") from None
+    if len(pts) != nv or len(tris) != nf:
+        raise ValueError(f"{path}: truncated GTS file")
+    return pts, tris
+
+
+def _read_stl(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    raw = []
+    text = data[:5].lower() == b"solid" and b"facet" in data[:1000]
+    if text:
+        verts = [tuple(float(x) for x in ln.split()[1:4]) for ln in data.decode(errors="replace").splitlines()
+                 if ln.strip().startswith("vertex")]
+        if len(verts) % 3:
+            raise ValueError(f"{path}: ASCII STL with {len(verts)} vertices (not a multiple of 3)")
+        raw = [verts[k:k + 3] for k in range(0, len(verts), 3)]
+    else:
+        if len(data) < 84:
+            raise ValueError(f"{path}: too short for a binary STL")
+        n = struct.unpack("<I", data[80:84])[0]
+        if len(data) < 84 + 50 * n:
+            raise ValueError(f"{path}: binary STL announces {n} triangles but is truncated")
+        for k in range(n):
+            v = struct.unpack("<12f", data[84 + 50 * k:84 + 50 * k + 48])
+            raw.append([v[3:6], v[6:9], v[9:12]])
+    if not raw:
+        raise ValueError(f"{path}: no triangles")
+    allv = [p for tri in raw for p in tri]
+    span = max(max(p[i] for p in allv) - min(p[i] for p in allv) for i in range(3)) or 1.0
+    tol = 1e-9 * span
+    index, pts, tris = {}, [], []
+    for tri in raw:
+        ids = []
+        for p in tri:
+            key = tuple(round(x / tol) for x in p)
+            if key not in index:
+                index[key] = len(pts)
+                pts.append(p)
+            ids.append(index[key])
+        tris.append(tuple(ids))
+    return pts, tris
+
+
+def mesh_file(path, material, thickness, scale=1.0, shift=(0, 0, 0), fixed=()):
+    """Membrane from a GTS or STL file (coordinates x scale + shift [m]). Returns (node_ids, facet_ids)."""
+    pts, tris = read_mesh(path)
+    s = _positive("scale", scale)
+    d = check_finite("shift", shift)
+    return triangle_mesh([Vector3(*p) * s + d for p in pts], tris, material, thickness, fixed=fixed)
+
+
+def membrane_state(facet_ids):
+    """Per-facet dict(n1, n2 [N/m], e1, e2 [-], energy [J]) (None for ruptured facets)."""
+    out = []
+    for i in facet_ids:
+        b = O.bodies[i]
+        out.append(None if b is None else dict(n1=b.shape.n1, n2=b.shape.n2, e1=b.shape.e1, e2=b.shape.e2, energy=b.shape.elasticEnergy))
+    return out
