@@ -1,4 +1,4 @@
-# TECCO G65/3 panel 1 x 1 m clamped on two opposite edges, pulled quasi-statically (1 m/s,
+# TECCO G65/3 panel 1 x 1 m (and 0.5, 2 m wide) clamped on two opposite edges, pulled quasi-statically (1 m/s,
 # local damping 0.2); peak resistance per metre and elongation at peak vs the datasheet
 # (150 kN/m longitudinal). Writes validation/tensile/mesh_*.{csv,png,json} and mesh_summary.csv.
 #   YADE_PREFIX=... PYTHONPATH=py yade-double -n -j1 -x scripts/tensile_mesh.py [OUTDIR] [--quick]
@@ -12,28 +12,31 @@ args = [a for a in sys.argv[1:] if not a.startswith("--")]
 out = args[0] if args else "validation/tensile"
 quick = "--quick" in sys.argv
 REF = mesh.TECCO_G65_STRENGTH
-cases = [  # name, direction, speed [m/s], seed, slack_scale (None: calibration)
-    ("longitudinal", "longitudinal", 1.0, 12345, None),
-    ("longitudinal_2ms", "longitudinal", 2.0, 12345, None),
-    ("longitudinal_seed1", "longitudinal", 1.0, 1, None),
-    ("longitudinal_seed2", "longitudinal", 1.0, 2, None),
-    ("longitudinal_straight", "longitudinal", 1.0, 12345, 0.0),
-    ("transverse", "transverse", 1.0, 12345, None),
+cases = [  # name, direction, speed [m/s], seed, slack_scale (None: calibration), loaded width [m]
+    ("longitudinal", "longitudinal", 1.0, 12345, None, 1.0),
+    ("longitudinal_2ms", "longitudinal", 2.0, 12345, None, 1.0),
+    ("longitudinal_seed1", "longitudinal", 1.0, 1, None, 1.0),
+    ("longitudinal_seed2", "longitudinal", 1.0, 2, None, 1.0),
+    ("longitudinal_straight", "longitudinal", 1.0, 12345, 0.0, 1.0),
+    ("longitudinal_width0.5", "longitudinal", 1.0, 12345, None, 0.5),
+    ("longitudinal_width2", "longitudinal", 1.0, 12345, None, 2.0),
+    ("transverse", "transverse", 1.0, 12345, None, 1.0),
 ]
 if quick:
     cases = cases[:2]
 rows = []
-for name, direction, speed, seed, slack in cases:
+for name, direction, speed, seed, slack, width in cases:
     t = time.time()
     mat = wire.tecco_wire(seed=seed, slack_scale=slack)
-    s = tensile.mesh_panel_scene(width=1.0, height=1.0, direction=direction, speed=speed, seed=seed, material=mat)
+    w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
+    s = tensile.mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat)
     r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.9)
-    rows.append(dict(case=name, direction=direction, speed=speed, seed=seed, slack_scale=mat.wireSlackScale,
+    rows.append(dict(case=name, direction=direction, loaded_width=s["loaded_width"], speed=speed, seed=seed, slack_scale=mat.wireSlackScale,
                      peak_kN_per_m=r["peak"] / 1e3, vs_datasheet=r["peak"] / REF - 1, elongation_at_peak=r["elongation_at_peak"],
                      ruptured=r["ruptured"], edge_unbalance_at_peak=r["unbalance_at_peak"], steps=r["iterations"], seconds=time.time() - t))
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in rows[-1].items()), flush=True)
     tensile.write_curve(f"{out}/mesh_{name}", dict(elongation=r["elongation"], force_kN_per_m=[x / 1e3 for x in r["force_per_m"]]),
-                        "elongation [-]", "force per metre width [kN/m]", f"TECCO G65/3 1 x 1 m, {name}", y="force_kN_per_m",
+                        "elongation [-]", "force per metre width [kN/m]", f"TECCO G65/3, {name}", y="force_kN_per_m",
                         reference={"datasheet 150 kN/m": ("h", REF / 1e3)}, params=s["params"])
 with open(f"{out}/mesh_summary.csv", "w", newline="") as fh:
     w = csv.DictWriter(fh, fieldnames=list(rows[0]))

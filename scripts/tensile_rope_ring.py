@@ -1,6 +1,6 @@
 # Boundary rope 6x7 FC pulled to rupture (EA, breaking force) and a steel ring (bar d = 10 mm)
-# pulled by two opposite point loads vs curved-beam theory; writes validation/tensile/rope.*,
-# ring.csv.
+# pulled by two opposite point loads vs curved-beam theory (small loads, three discretisations;
+# then pulled to 30% of its radius); writes validation/tensile/rope.*, ring.csv, ring_pull.*.
 #   YADE_PREFIX=... PYTHONPATH=py yade-double -n -j1 -x scripts/tensile_rope_ring.py [OUTDIR]
 import csv
 import sys
@@ -26,3 +26,10 @@ with open(out + "/ring.csv", "w", newline="") as fh:
     w = csv.writer(fh)
     w.writerow(["segments", "delta_m", "theory_m", "rel_error", "rel_error_times_N2"])
     w.writerows(rows)
+g = tensile.ring_pull(ring_radius=0.3, bar_radius=0.005, segments=48)
+k2 = next(f / d for d, f in zip(g["deflection"], g["force"]) if d >= 0.02 * 0.3)  # secant at 2% of R
+print(f"ring pulled to {g['deflection'][-1]:.3f} m: force {g['force'][-1]:.0f} N; secant stiffness at 2% of R {k2:.4e} N/m "
+      f"vs thin-ring theory {g['linear_stiffness']:.4e} N/m ({k2 / g['linear_stiffness'] - 1:+.2%}; the ring stiffens as it elongates)")
+tensile.write_curve(out + "/ring_pull", dict(deflection=g["deflection"], force=g["force"]), "elongation of the diameter [m]", "force [N]",
+                    "steel ring R = 0.3 m, bar d = 10 mm, opposite point loads", x="deflection",
+                    reference={"thin-ring theory at 10% R": (0.03, 0.03 * g["linear_stiffness"])}, params=g["params"])

@@ -70,10 +70,10 @@ void FlexCylinder::attach(int selfId)
 	inertiaShare              = sh.inertia;
 	flex::BeamSection sec     = flexa::section(*mat, radius);
 	if (mat->isWire()) { // the wire's elastic slope may exceed young: the time step must see it
-		sec.EA      = std::max(sec.EA, M_PI * radius * radius * mat->wireStress[0] / mat->wireStrain[0]);
-		maxStrain   = 0;
+		sec.EA        = std::max(sec.EA, M_PI * radius * radius * mat->wireStress[0] / mat->wireStrain[0]);
+		maxStrain     = 0;
 		plasticStrain = 0;
-		wireSlack   = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
+		wireSlack     = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
 	}
 	omega2 = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
 	for (State* s : { &s1, &s2 }) {

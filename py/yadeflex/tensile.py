@@ -213,3 +213,31 @@ def rope_tensile_test(length=1.0, segments=1, damping=0.0, steps_per_unit_strain
     carried = [x for x, el in zip(f, e) if x is not None]
     return dict(strain=e, force=f, EA=f[k] / e[k], rupture_force=max(carried), ruptured=eng.nRuptured,
                 params=dict(length=length, segments=segments, damping=damping))
+
+
+def ring_pull(ring_radius=0.3, bar_radius=0.005, segments=48, stretch=0.3, speed=0.05, damping=0.5, chunk=2000, material=None):
+    """Steel ring pulled apart at two opposite nodes, displacement controlled: the bottom node
+    held, the top node driven along the load line at speed [m/s] (local damping: quasi-static)
+    until the diameter grew by stretch x ring_radius. Returns dict(deflection [m], force [N],
+    linear_stiffness [N/m] of thin-ring theory, params)."""
+    from .materials import steel
+    O.reset()
+    mat = material if material is not None else steel()
+    nodes, cyls = B.ring((0, 0, 0), ring_radius, bar_radius, mat, segments=segments, axis=(0, 1, 0))
+    bottom, top = nodes[0], nodes[segments // 2]
+    B.fix([bottom], "xyz")
+    B.fix([top], "xyz")
+    up = Vector3(O.bodies[top].state.pos - O.bodies[bottom].state.pos).normalized()
+    O.bodies[top].state.vel = up * B._positive("speed", speed)
+    O.engines = engines(gravity=(0, 0, 0), damping=damping)
+    I = math.pi * bar_radius ** 4 / 4
+    k_lin = mat.young * I / ((math.pi / 4 - 2 / math.pi) * ring_radius ** 3)
+    p0 = Vector3(O.bodies[top].state.pos)
+    d, f = [0.0], [0.0]
+    O.step()
+    while d[-1] < stretch * ring_radius:
+        O.run(chunk, True)
+        d.append((O.bodies[top].state.pos - p0).dot(up))
+        f.append(-O.forces.f(top).dot(up))
+    return dict(deflection=d, force=f, linear_stiffness=k_lin,
+                params=dict(ring_radius=ring_radius, bar_radius=bar_radius, segments=segments, speed=speed, damping=damping))

@@ -8,10 +8,6 @@ slack_scale * xi, xi symmetric triangular on [0, 1], drawn once per link from `s
 link's two node ids (reproducible, independent of thread count and O.reset()), reached
 through a soft initial branch ending at force_ratio x the first point's force.
 """
-import math
-
-from yade.wrapper import FlexMat
-
 from .materials import flex_material
 
 # High-tensile steel wire, tensile strength 1770 N/mm2 (TECCO wire, Geobrugg; DESIGN.md).
@@ -65,11 +61,3 @@ def tecco_wire(label="tecco_wire", slack_scale=None, force_ratio=None, seed=1234
                          force_ratio=cal["force_ratio"] if force_ratio is None else force_ratio,
                          seed=seed, label=label, **kw)
 
-
-def wire_area(diameter):
-    """Cross-section of a wire [m2]."""
-    return math.pi * diameter ** 2 / 4
-
-
-def is_wire(material):
-    return isinstance(material, FlexMat) and len(material.wireStrain) > 0
