@@ -46,7 +46,7 @@ def parse():
             ap.add_argument(name, type=float, nargs=2, default=None, help="[0 0] m")
         elif f.name in ("fill", "boulder_shape"):
             ap.add_argument(name, default=None, help=f"[{f.default}]")
-        elif f.name == "seed":
+        elif f.name in ("seed", "n_modules"):
             ap.add_argument(name, type=int, default=None, help=f"[{f.default}]")
         else:
             ap.add_argument(name, type=float, default=None, help=f"[{f.default}]")
@@ -97,7 +97,7 @@ def main():
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
     t_wall = time.time()
-    print(f"damping module: {p.diameter} m x {p.height} m, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s")
+    print(f"damping module: {p.n_modules} x {p.diameter} m x {p.height} m{' with a boundary rope' if p.with_rope() else ''}, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s")
 
     def prog(stage, steps, ke):
         if steps % 10000 == 0:
@@ -125,7 +125,7 @@ def main():
     mesh_nodes = ids["mesh_nodes"]
     R0 = 0.5 * p.diameter
     mid = [n for n in mesh_nodes if abs(O.bodies[n].state.pos[2] - 0.5 * p.height) < 0.15 * p.height]
-    ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"])
+    ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"], rope=ids.get("rope", []))
     el = [e for e in O.engines if e.label == "flexElements"][0]
     rows, erows = [], []
     v_prev, t_prev = Vector3(boulder.state.vel), O.time
@@ -193,7 +193,7 @@ def main():
             rows.append(dict(t=O.time - start, boulder_z=st.pos[2], boulder_vz=st.vel[2], boulder_az=acc[2], impact_force=f_contact,
                              penetration=max(0.0, top0 - bottom), slab_force=slab, bulge_max=max(radial or [0.0]),
                              bulge_mean=(sum(radial) / len(radial) if radial else 0.0), ring_top_force=ring_f["top"],
-                             ring_bottom_force=ring_f["bottom"], broken_wires=el.nRuptured, dt=O.dt))
+                             ring_bottom_force=ring_f["bottom"], rope_force=ring_f["rope"], broken_wires=el.nRuptured, dt=O.dt))
             e = {k: O.energy[k] for k in O.energy.keys()}
             e["t"] = O.time - start
             e["residual"] = O.energy.total() - total0
@@ -227,6 +227,7 @@ def main():
         impact_duration=((rebound_t or O.time) - t_contact) if t_contact is not None else None,
         slab_force_max=max(r["slab_force"] for r in rows), bulge_max=max(r["bulge_max"] for r in rows),
         ring_top_force_max=max(r["ring_top_force"] for r in rows), ring_bottom_force_max=max(r["ring_bottom_force"] for r in rows),
+        rope_force_max=max(r["rope_force"] for r in rows), n_modules=p.n_modules,
         broken_wires=el.nRuptured, impact_energy=e_impact,
         energy_end={k: last.get(k, 0.0) for k in keys},
         energy_residual_max_fraction=resid,
@@ -267,7 +268,9 @@ def _plots(out, rows, erows, keys):
     ax[1, 0].legend()
     ax[1, 1].plot(t, [r["ring_top_force"] / 1e3 for r in rows], label="top ring")
     ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
-    ax[1, 1].set(xlabel="t [ms]", ylabel="max axial force [kN]", title="rings")
+    if any(r["rope_force"] for r in rows):
+        ax[1, 1].plot(t, [r["rope_force"] / 1e3 for r in rows], label="boundary rope")
+    ax[1, 1].set(xlabel="t [ms]", ylabel="max axial force [kN]", title="rings and rope")
     ax[1, 1].legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out, "impact.png"), dpi=110)

@@ -33,7 +33,7 @@ from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, F
 
 from . import builders as B
 from . import membrane as M
-from .mesh import chain_link_cylinder, edge_ring
+from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
 from .scene import engines
 
 G = 9.81
@@ -72,6 +72,9 @@ class ModuleParams:
     timestep_safety: float = 0.5     # [-]
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
     seed: int = 1
+    n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
+    module_gap: float = 0.02         # [m] clear gap between neighbouring modules
+    rope: bool = None                # boundary rope (6x7 FC, 8 mm) around all modules at mid-height; default: with n_modules > 1
 
     def preset(self):
         if self.fill not in FILLS:
@@ -114,6 +117,22 @@ class ModuleParams:
                 raise ValueError(f"{k} must be in [0, 1), got {getattr(self, k)!r}")
         if not (0 < self.timestep_safety <= 1):
             raise ValueError(f"timestep_safety must be in (0, 1], got {self.timestep_safety!r}")
+        if self.n_modules not in (1, 3, 7):
+            raise ValueError(f"n_modules must be 1, 3 or 7, got {self.n_modules!r}")
+        if not (isinstance(self.module_gap, (int, float)) and 0 <= self.module_gap < self.diameter):
+            raise ValueError(f"module_gap must be in [0, diameter), got {self.module_gap!r}")
+
+    def centers(self):
+        """Module centres (x, y) [m]: the first is the one the boulder hits."""
+        d = self.diameter + self.module_gap
+        if self.n_modules == 1:
+            return [(0.0, 0.0)]
+        if self.n_modules == 3:
+            return [(0.0, 0.0), (-d, 0.0), (d, 0.0)]
+        return [(0.0, 0.0)] + [(d * math.cos(k * math.pi / 3), d * math.sin(k * math.pi / 3)) for k in range(6)]
+
+    def with_rope(self):
+        return self.n_modules > 1 if self.rope is None else bool(self.rope)
 
     def fill_key(self):
         """Hash of every parameter the filled module depends on (the cache key)."""
@@ -121,7 +140,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 1
+        d["_version"] = 2
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -150,12 +169,12 @@ def _sphere_body(center, radius, mat):
     return O.bodies.append(b)
 
 
-def _container(radius, height, n=48):
+def _container(radius, height, n=48, center=(0.0, 0.0)):
     """Rigid frictionless cylinder of YADE facets (only while the grains settle)."""
     from yade import geom
     mat = FrictMat(young=1e8, poisson=0.3, density=1000, frictionAngle=0.0, label="container")
     O.materials.append(mat)
-    fs = geom.facetCylinder((0, 0, height / 2), radius, height, segmentsNumber=n, wallMask=4, material=mat)
+    fs = geom.facetCylinder((center[0], center[1], height / 2), radius, height, segmentsNumber=n, wallMask=4, material=mat)
     return O.bodies.append(fs)
 
 
@@ -188,20 +207,21 @@ def build_filled(params, progress=None):
     gmat = _grain_material(p)
     from yade import utils
     wall = O.bodies.append(utils.wall(0, axis=2, sense=1, material=gmat))
-    _container(r_in, 2.4 * H)
     rmax = 0.5 * p["grain_max"]
     a = 2.05 * rmax
     grains = []
     nlay = int(2.2 * H / a)
-    for k in range(nlay):
-        z = rmax * 1.05 + k * a
-        m = int((r_in - rmax) / a)
-        for i in range(-m, m + 1):
-            for j in range(-m, m + 1):
-                x, y = i * a + (0.25 * a if k % 2 else 0), j * a
-                if math.hypot(x, y) <= r_in - 1.05 * rmax:
-                    rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
-                    grains.append(_sphere_body(Vector3(x, y, z), rad, gmat))
+    for cx, cy in params.centers():
+        _container(r_in, 2.4 * H, center=(cx, cy))
+        for k in range(nlay):
+            z = rmax * 1.05 + k * a
+            m = int((r_in - rmax) / a)
+            for i in range(-m, m + 1):
+                for j in range(-m, m + 1):
+                    x, y = i * a + (0.25 * a if k % 2 else 0), j * a
+                    if math.hypot(x, y) <= r_in - 1.05 * rmax:
+                        rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
+                        grains.append(_sphere_body(Vector3(cx + x, cy + y, z), rad, gmat))
     O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
@@ -224,25 +244,35 @@ def build_filled(params, progress=None):
     O.materials.append(wire)
     from .materials import steel
     ring_mat = steel(label="ring_steel", friction_deg=30.0, contact_young=params.steel_contact_young)
-    mesh = chain_link_cylinder(params.diameter, H, wire)
-    rings = dict(bottom=edge_ring(mesh["edges"]["bottom"], 0.5 * params.ring_bar_diameter, ring_mat),
-                 top=edge_ring(mesh["edges"]["top"], 0.5 * params.ring_bar_diameter, ring_mat))
-    lin = None
-    if params.lining:
-        gtx = M.geotextile(friction_deg=30.0)
-        n_around = max(12, int(round(2 * math.pi * r_lin / 0.08)))
-        n_height = max(2, int(round(H / 0.08)))
-        lin = M.lining(r_lin, H, n_around, n_height, params.lining_thickness, gtx, center=(0, 0, 0.5 * params.lining_thickness), fix_bottom=True)
-    B.fix(mesh["edges"]["bottom"], "xyz")
+    gtx = M.geotextile(friction_deg=30.0) if params.lining else None
+    per = []
+    for cx, cy in params.centers():
+        mesh = chain_link_cylinder(params.diameter, H, wire, center=(cx, cy, 0))
+        rings = dict(bottom=edge_ring(mesh["edges"]["bottom"], 0.5 * params.ring_bar_diameter, ring_mat),
+                     top=edge_ring(mesh["edges"]["top"], 0.5 * params.ring_bar_diameter, ring_mat))
+        lin = None
+        if params.lining:
+            n_around = max(12, int(round(2 * math.pi * r_lin / 0.08)))
+            n_height = max(2, int(round(H / 0.08)))
+            lin = M.lining(r_lin, H, n_around, n_height, params.lining_thickness, gtx, center=(cx, cy, 0.5 * params.lining_thickness),
+                           fix_bottom=True)
+        B.fix(mesh["edges"]["bottom"], "xyz")
+        per.append(dict(center=(cx, cy), mesh_nodes=sorted(mesh["nodes"].values()), mesh_cylinders=mesh["cylinders"],
+                        ring_bottom=rings["bottom"], ring_top=rings["top"], lining=(lin["facets"] if lin else []),
+                        lining_nodes=(sorted({n for row in lin["rings"] for n in row}) if lin else []),
+                        base_nodes=sorted(set(mesh["edges"]["bottom"]) | set(lin["bottom"] if lin else [])), mesh_params=mesh["params"]))
+    rope = dict(nodes=[], cylinders=[])
+    if params.with_rope():
+        from .materials import rope_6x7_8mm
+        from .rope import rope_around
+        rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(contact_young=params.steel_contact_young))
+        rope = dict(nodes=rn, cylinders=rc)
     O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
     # the structure settles onto the fill: the mesh takes up its slack, a creep that local
     # damping slows down; 1e-3 of the fill's potential energy scale is "negligible" here
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke: progress("structure", s, ke)))
-    ids = dict(wall=wall, grains=grains, mesh_nodes=sorted(mesh["nodes"].values()), mesh_cylinders=mesh["cylinders"],
-               ring_bottom=rings["bottom"], ring_top=rings["top"], lining=(lin["facets"] if lin else []),
-               lining_nodes=(sorted({n for row in lin["rings"] for n in row}) if lin else []),
-               base_nodes=sorted(set(mesh["edges"]["bottom"]) | set(lin["bottom"] if lin else [])),
-               mesh_params=mesh["params"])
+    ids = dict(per[0], wall=wall, grains=grains, modules=per, rope=rope["cylinders"], rope_nodes=rope["nodes"],
+               base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
     O.tags["yadeflex_module"] = json.dumps(ids)
     return ids
 
