@@ -111,13 +111,14 @@ def main():
     s = p.boulder_size()
     boulder = O.bodies[bid]
     mass = boulder.state.mass
-    O.engines = yf.engines(damping=p.damping, timestep_safety=p.timestep_safety)
+    O.engines = p.engines(p.damping)
     O.trackEnergy = True
     O.energy.clear()
     O.timingEnabled = True
     with open(os.path.join(out, "params.json"), "w") as f:
         json.dump(dict(dataclasses.asdict(p), boulder_size=s, impact_speed=p.impact_speed(), fill_top=top0, cache_file=cache_file,
                        contact_law="linear Cundall-Strack (yade-flex law for all sphere and element contacts)",
+                       rolling_friction=p.preset()["rolling_friction"],
                        numerical_damping=p.damping), f, indent=1)
     # --- run
     wall = ids["wall"]

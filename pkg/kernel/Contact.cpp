@@ -37,22 +37,33 @@ Vec3 rotateShear(const Vec3& shear, const Vec3& nNew)
 // tangential motion: D = the elastic energy released; stick: D = 0. The classical
 // (|Fs*| - Fs_max) Fs_max / ks misses (|Fs*| - Fs_max)^2 / (2 ks) in the second case, which
 // left 3.4 % of a frictional sphere-wire impact's energy unbooked (measured).
+CappedSpring cappedSpringStep(double k, double limit, const Vec3& old, const Vec3& increment)
+{
+	CappedSpring r;
+	Vec3         v  = old - k * increment;
+	const double v2 = v.squaredNorm();
+	if (v2 > limit * limit) {
+		const double trial = std::sqrt(v2);
+		r.slipping         = true;
+		const Vec3 trialV  = v;
+		v *= (trial > 0 ? limit / trial : 0.0);
+		if (k > 0) r.dissipated = 0.5 * (trialV - v).dot(old + v) / k;
+	}
+	r.value  = v;
+	r.energy = k > 0 ? 0.5 * v.squaredNorm() / k : 0.0;
+	return r;
+}
+
 FrictionalResult frictionalStep(const FrictionalContact& p, double overlap, const Vec3& n, const Vec3& shearOld, const Vec3& dus)
 {
 	FrictionalResult r;
 	const double     Fn = p.kn * overlap;
 	r.normalForce       = Fn * n;
-	Vec3         Fs     = shearOld - p.ks * dus;
-	const double maxFs  = p.tanPhi * Fn, Fs2 = Fs.squaredNorm();
-	if (Fs2 > maxFs * maxFs) {
-		const double trial = std::sqrt(Fs2);
-		r.sliding          = true;
-		const Vec3 trialFs = Fs;
-		Fs *= (trial > 0 ? maxFs / trial : 0.0);
-		if (p.ks > 0) r.frictionWork = 0.5 * (trialFs - Fs).dot(shearOld + Fs) / p.ks;
-	}
-	r.shearForce    = Fs;
-	r.elasticEnergy = (p.kn > 0 ? 0.5 * Fn * Fn / p.kn : 0.0) + (p.ks > 0 ? 0.5 * Fs.squaredNorm() / p.ks : 0.0);
+	const CappedSpring s = cappedSpringStep(p.ks, p.tanPhi * Fn, shearOld, dus);
+	r.shearForce         = s.value;
+	r.sliding            = s.slipping;
+	r.frictionWork       = s.dissipated;
+	r.elasticEnergy      = (p.kn > 0 ? 0.5 * Fn * Fn / p.kn : 0.0) + s.energy;
 	return r;
 }
 

@@ -27,6 +27,17 @@ void distributeToSegment(double u, const Vec3& axisPoint, const Vec3& c, const V
 /// remove the normal component and restore the magnitude.
 Vec3 rotateShear(const Vec3& shear, const Vec3& nNew);
 
+/// A linear spring with a capped magnitude (Coulomb friction, rolling resistance): the trial
+/// value old - k increment is scaled back to |value| <= limit. `dissipated` is consistent with
+/// the leap-frog energy identity (see Contact.cpp).
+struct CappedSpring {
+	Vec3   value      = Vec3::Zero(); ///< new force or moment
+	double energy     = 0;            ///< stored |value|^2 / (2 k) [J]
+	double dissipated = 0;            ///< this step [J]
+	bool   slipping   = false;
+};
+CappedSpring cappedSpringStep(double k, double limit, const Vec3& old, const Vec3& increment);
+
 /// Linear frictional contact (Cundall & Strack 1979) with Coulomb's limit.
 struct FrictionalContact {
 	double kn = 0, ks = 0; ///< normal / shear stiffness [N/m]

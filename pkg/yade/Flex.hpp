@@ -133,7 +133,8 @@ public:
 		((bool, active, true, , "Owned: this interaction carries the contact force"))
 		((long, lastActiveIter, -2, , "Last iteration at which it was active"))
 		((bool, handover, false, , "Took over the shear force of a neighbour this step"))
-		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]")),
+		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]"))
+		((Vector3r, rollMoment, Vector3r::Zero(), , "Rolling-resistance moment on body 2 (sphere-sphere contacts) [N m]")),
 		createIndex();
 	);
 	// clang-format on
@@ -199,9 +200,14 @@ REGISTER_SERIALIZABLE(Ig2_Sphere_Sphere_FlexContactGeom);
 class Law2_FlexContactGeom_FrictPhys_CundallStrack : public LawFunctor {
 public:
 	bool go(shared_ptr<IGeom>&, shared_ptr<IPhys>&, Interaction*) override;
+	/// Rolling stiffness kr of this contact (0: none; only sphere-sphere contacts roll) [N m].
+	Real rollingK(const FlexContactGeom& g, const FrictPhys& p) const;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Law2_FlexContactGeom_FrictPhys_CundallStrack, LawFunctor,
-		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Books 'flexContactElastic' and 'flexFriction' in O.energy.",
+		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Books 'flexContactElastic', 'flexFriction' and 'flexRolling' in O.energy.",
+		((Real, rollingStiffness, 0, , "Rolling stiffness of sphere-sphere contacts as kr / (ks R^2) [-]; 0: no rolling resistance"))
+		((Real, rollingFriction, 0, , "Rolling friction coefficient eta: the rolling moment is capped at eta R |Fn| [-]"))
+		((int, rollIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, frictIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 	);
@@ -239,6 +245,7 @@ REGISTER_SERIALIZABLE(FlexElementEngine);
 
 class FlexTimeStepper : public GlobalEngine {
 	size_t lastInteractionCount = 0;
+	long   lastColliderRuns     = -1;
 
 public:
 	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
@@ -248,7 +255,7 @@ public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
-		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the number of interactions changes.",
+		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
 		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
 		((int, interval, 50, , "Recompute every this many steps [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]")),

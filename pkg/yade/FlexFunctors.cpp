@@ -338,7 +338,11 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 		// dissipated (separation: the Coulomb cone closes as the normal force vanishes); a
 		// neighbour taking the shear over books the same amount back (below), so a hand-over
 		// nets to zero.
-		if (g.lastActiveIter == scene->iter - 1 && track) scene->energy->add(0.5 * p.shearForce.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+		if (g.lastActiveIter == scene->iter - 1 && track) {
+			scene->energy->add(0.5 * p.shearForce.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+			const Real kr = rollingK(g, p);
+			if (kr > 0) scene->energy->add(0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
+		}
 		return g.lastActiveIter >= scene->iter - 1;
 	}
 	if (g.handover && track) scene->energy->add(-0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
@@ -352,11 +356,34 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
 	applySide(scene, I->getId1(), g.nodes1, g.tri1, g.u1, g.bary1, g.axis1, g.contactPoint, -F);
 	applySide(scene, I->getId2(), g.nodes2, g.tri2, g.u2, g.bary2, g.axis2, g.contactPoint, F);
+	Real rollEnergy = 0;
+	const Real kr = rollingK(g, p);
+	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)
+		const Scene*   sc  = scene;
+		const State&   s1  = *Body::byId(I->getId1(), const_cast<Scene*>(sc))->state;
+		const State&   s2  = *Body::byId(I->getId2(), const_cast<Scene*>(sc))->state;
+		const Vector3r dw  = s2.angVel - s1.angVel;
+		const Vector3r dth = (dw - n.dot(dw) * n) * scene->dt;
+		const Real     Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
+		const flex::CappedSpring rs = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
+		g.rollMoment = rs.value;
+		scene->forces.addTorque(I->getId1(), -rs.value);
+		scene->forces.addTorque(I->getId2(), rs.value);
+		rollEnergy = rs.energy;
+		if (scene->trackEnergy && rs.dissipated != 0) scene->energy->add(rs.dissipated, "flexRolling", rollIx, false);
+	}
 	if (scene->trackEnergy) {
-		scene->energy->add(r.elasticEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
+		scene->energy->add(r.elasticEnergy + rollEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
 		scene->energy->add(r.frictionWork, "flexFriction", frictIx, false);
 	}
 	return true;
+}
+
+Real Law2_FlexContactGeom_FrictPhys_CundallStrack::rollingK(const FlexContactGeom& g, const FrictPhys& p) const
+{
+	if (!(rollingStiffness > 0) || g.nodes1[0] >= 0 || g.nodes2[0] >= 0 || g.tri1[0] >= 0 || g.tri2[0] >= 0) return 0;
+	const Real Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
+	return rollingStiffness * p.ks * Reff * Reff;
 }
 
 } // namespace yade

@@ -40,11 +40,13 @@ G = 9.81
 
 # Fill presets: grain size range [m] (the simulated size; real sand is far too fine for a
 # sphere-per-grain model and is represented by coarser grains with its bulk properties),
-# solid density [kg/m3], friction angle [deg], contact modulus [Pa].
+# solid density [kg/m3], friction angle [deg], contact modulus [Pa], rolling friction [-]
+# (rolling resistance of angular grains on spheres, kr = ks R^2; assumed values in the range
+# used for crushed rock in DEM, not calibrated here).
 FILLS = {
-    "gravel": dict(grain_min=0.032, grain_max=0.063, density=2650.0, friction_deg=38.0, young=1e8),
-    "sand": dict(grain_min=0.020, grain_max=0.030, density=2650.0, friction_deg=33.0, young=1e8),
-    "cellular_glass": dict(grain_min=0.030, grain_max=0.060, density=350.0, friction_deg=45.0, young=2e7),
+    "gravel": dict(grain_min=0.032, grain_max=0.063, density=2650.0, friction_deg=38.0, young=1e8, rolling_friction=0.1),
+    "sand": dict(grain_min=0.020, grain_max=0.030, density=2650.0, friction_deg=33.0, young=1e8, rolling_friction=0.05),
+    "cellular_glass": dict(grain_min=0.030, grain_max=0.060, density=350.0, friction_deg=45.0, young=2e7, rolling_friction=0.15),
 }
 
 
@@ -61,6 +63,7 @@ class ModuleParams:
     grain_min: float = None          # [m] override the preset
     grain_max: float = None          # [m]
     fill_friction_deg: float = None  # [deg]
+    rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
     boulder_mass: float = 800.0      # [kg]
     boulder_shape: str = "cube"      # 'cube' or 'sphere'
     boulder_density: float = 2400.0  # [kg/m3] concrete
@@ -85,7 +88,14 @@ class ModuleParams:
                 p[k] = getattr(self, k)
         if self.fill_friction_deg is not None:
             p["friction_deg"] = self.fill_friction_deg
+        if self.rolling_friction is not None:
+            p["rolling_friction"] = self.rolling_friction
         return p
+
+    def engines(self, damping):
+        """yadeflex.engines() with this module's rolling resistance."""
+        rf = self.preset()["rolling_friction"]
+        return engines(damping=damping, timestep_safety=self.timestep_safety, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
     def validate(self):
         """Raise ValueError naming the first bad parameter (before any simulation starts)."""
@@ -100,6 +110,8 @@ class ModuleParams:
             raise ValueError(f"grain sizes must satisfy 0 < grain_min <= grain_max, got {p['grain_min']!r}, {p['grain_max']!r}")
         if p["grain_max"] > 0.25 * self.diameter:
             raise ValueError(f"grain_max {p['grain_max']} m is too large for a {self.diameter} m module (max diameter/4)")
+        if not (p["rolling_friction"] >= 0 and math.isfinite(p["rolling_friction"])):
+            raise ValueError(f"rolling_friction must be >= 0, got {p['rolling_friction']!r}")
         if not (0 <= p["friction_deg"] < 90):
             raise ValueError(f"fill friction must be in [0, 90) deg, got {p['friction_deg']!r}")
         if self.boulder_shape not in ("cube", "sphere"):
@@ -140,7 +152,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 2
+        d["_version"] = 3
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -222,7 +234,7 @@ def build_filled(params, progress=None):
                     if math.hypot(x, y) <= r_in - 1.05 * rmax:
                         rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
                         grains.append(_sphere_body(Vector3(cx + x, cy + y, z), rad, gmat))
-    O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
+    O.engines = params.engines(params.settle_damping)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill", s, ke)))
@@ -267,7 +279,7 @@ def build_filled(params, progress=None):
         from .rope import rope_around
         rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(contact_young=params.steel_contact_young))
         rope = dict(nodes=rn, cylinders=rc)
-    O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety)
+    O.engines = params.engines(params.settle_damping)
     # the structure settles onto the fill: the mesh takes up its slack, a creep that local
     # damping slows down; 1e-3 of the fill's potential energy scale is "negligible" here
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke: progress("structure", s, ke)))

@@ -25,7 +25,8 @@ def _min_contact_radius():
     return r
 
 
-def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True):
+def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
+            rolling_stiffness=0.0, rolling_friction=0.0):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
@@ -59,7 +60,8 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
              Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
             [Ip2_FrictMat_FrictMat_FrictPhys()],
-            [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw")],
+            [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw", rollingStiffness=rolling_stiffness,
+                                                                                        rollingFriction=rolling_friction)],
             label="interactionLoop"),
         FlexElementEngine(label="flexElements"),
         FlexTimeStepper(safety=timestep_safety, interval=timestep_interval, label="flexDt"),
