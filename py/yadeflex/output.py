@@ -84,8 +84,11 @@ def _vtk():
                 vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
 
 
+_INT_ARRAYS = ("id", "blockedDOFs")  # written as Int64; all others as Float64 (fixed, so an empty file has the same types)
+
+
 def _array(vtk, name, values, components=1):
-    a = np.ascontiguousarray(values, dtype=np.int64 if name in ("id", "blockedDOFs") else np.float64)
+    a = np.ascontiguousarray(values, dtype=np.int64 if name in _INT_ARRAYS else np.float64)
     a = a.reshape(-1, components) if components > 1 else a.reshape(-1)
     arr = vtk["ns"].numpy_to_vtk(a, deep=True)
     arr.SetName(name)
