@@ -1,0 +1,508 @@
+"""Results: VTK time series for ParaView, energy and time-series CSVs, plots.
+
+VTK. Each frame writes one VTK XML unstructured grid (.vtu) per group of bodies and rewrites
+the collection file PREFIX.pvd, which ParaView opens as ONE time series (a multiblock, one
+block per group, named after it). The .pvd is replaced atomically after the frame's files are
+complete, so an interrupted run still opens, up to its last frame.
+
+    group            cells                     data (SI units)
+    nodes            one vertex per FlexNode   point: id, radius [m], mass [kg], velocity [m/s],
+                                               speed [m/s], angularVelocity [rad/s], blockedDOFs [-]
+    cylinders        line node1-node2          cell: id, radius [m], axialForce [N] (tension > 0),
+                                               strain [-], plasticStrain [-], maxStrain [-],
+                                               hardeningVar [-], wireSlack [-], elasticEnergy [J],
+                                               L0 [m]; point: id (node), velocity [m/s]
+    facets           triangle node1-2-3        cell: id, radius [m] (half thickness), n1, n2 [N/m]
+                                               (principal membrane forces), e1, e2 [-],
+                                               elasticEnergy [J], pressure [Pa], area0 [m2];
+                                               point: id (node), velocity [m/s]
+    spheres          one vertex per Sphere     point: as nodes (Glyph > Sphere, Scale Array
+                                               radius, Scale Factor 2 draws them to size)
+    boxes            hexahedron per Box        cell: id, extents [m], velocity [m/s], speed [m/s]
+    rigid_facets     triangle per YADE Facet   cell: id, velocity [m/s], speed [m/s]
+
+Cylinder and facet files hold only the nodes their elements use, at their current positions.
+Shape fields missing from the installed plugin are left out (the list is taken from the class).
+Erased bodies (None) are skipped; other shapes (walls, clumps' own bodies) are not written.
+Every file carries field data TimeValue [s] and Iteration [-].
+
+Empty groups: a group with no bodies at a frame writes no file for that frame. Once a group has
+appeared in the series, frames where it has no bodies (before it appeared, or after its bodies
+were erased) point to one shared empty file PREFIX_GROUP_empty.vtu, so that every frame lists
+the same blocks in the same order (VTK's collection reader numbers blocks by their order in a
+frame). A group that never had a body has no file at all.
+
+The frame is stamped with O.time and O.iter. Called from a PyRunner after the integrator,
+positions are already advanced by one step while O.time is not: negligible for display.
+
+CSV files use the header convention of scripts/demo_cylinders.py: NAME[UNIT].
+"""
+import csv
+import itertools
+import math
+import os
+import re
+import tempfile
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+from yade import O
+from yade.wrapper import Box, Facet, FlexCylinder, FlexFacet, FlexNode, PyRunner, Sphere
+
+# ---- VTK ---------------------------------------------------------------------------------------
+
+GROUPS = ("nodes", "cylinders", "facets", "spheres", "boxes", "rigid_facets")
+
+_CYLINDER_FIELDS = ("radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar", "wireSlack",
+                    "elasticEnergy", "L0")
+_FACET_FIELDS = ("radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0")
+
+
+def _fields_of(cls, names):
+    probe = cls()
+    return tuple(n for n in names if isinstance(getattr(probe, n, None), (int, float)))
+
+
+CYLINDER_FIELDS = _fields_of(FlexCylinder, _CYLINDER_FIELDS)  # cell arrays written for cylinders
+FACET_FIELDS = _fields_of(FlexFacet, _FACET_FIELDS)  # cell arrays written for facets
+
+# VTK cell types (vtkCellType.h)
+_VTK_VERTEX, _VTK_LINE, _VTK_TRIANGLE, _VTK_HEXAHEDRON = 1, 3, 5, 12
+# Box corners in the order of VTK_HEXAHEDRON: bottom face counter-clockwise, then top face.
+_HEX_CORNERS = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))
+
+
+def _vtk():
+    try:
+        from vtkmodules.util import numpy_support
+        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    except ImportError as err:
+        raise ImportError(f"VTK output needs VTK's Python bindings (Debian: apt-get install python3-vtk9): {err}") from None
+    return dict(ns=numpy_support, vtkDoubleArray=vtkDoubleArray, vtkIntArray=vtkIntArray, vtkPoints=vtkPoints,
+                vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
+
+
+_INT_ARRAYS = ("id", "blockedDOFs")  # written as Int64; all others as Float64 (fixed, so an empty file has the same types)
+
+
+def _array(vtk, name, values, components=1):
+    a = np.ascontiguousarray(values, dtype=np.int64 if name in _INT_ARRAYS else np.float64)
+    a = a.reshape(-1, components) if components > 1 else a.reshape(-1)
+    arr = vtk["ns"].numpy_to_vtk(a, deep=True)
+    arr.SetName(name)
+    return arr
+
+
+def _grid(vtk, points, cell_type, conn, nper, point_data=(), cell_data=()):
+    """vtkUnstructuredGrid of one cell type; conn: flat point indices, nper per cell; *_data:
+    (name, values, components)."""
+    ug = vtk["vtkUnstructuredGrid"]()
+    pts = vtk["vtkPoints"]()
+    pts.SetDataTypeToDouble()
+    pts.SetData(vtk["ns"].numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3), deep=True))
+    ug.SetPoints(pts)
+    conn = np.ascontiguousarray(conn, dtype=np.int64).reshape(-1)
+    ncell = len(conn) // nper
+    cells = vtk["vtkCellArray"]()
+    cells.SetData(vtk["ns"].numpy_to_vtkIdTypeArray(np.arange(0, nper * ncell + 1, nper, dtype=np.int64), deep=True),
+                  vtk["ns"].numpy_to_vtkIdTypeArray(conn, deep=True))
+    ug.SetCells(cell_type, cells)
+    for name, values, comp in point_data:
+        ug.GetPointData().AddArray(_array(vtk, name, values, comp))
+    for name, values, comp in cell_data:
+        ug.GetCellData().AddArray(_array(vtk, name, values, comp))
+    return ug
+
+
+def _particles(vtk, bodies):
+    """Nodes or spheres: one vertex each, data on the points."""
+    n = len(bodies)
+    vel = [tuple(b.state.vel) for b in bodies]
+    return _grid(vtk, [tuple(b.state.pos) for b in bodies], _VTK_VERTEX, range(n), 1, point_data=[
+        ("id", [b.id for b in bodies], 1),
+        ("radius", [b.shape.radius for b in bodies], 1),
+        ("mass", [b.state.mass for b in bodies], 1),
+        ("velocity", vel, 3),
+        ("speed", [math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel], 1),
+        ("angularVelocity", [tuple(b.state.angVel) for b in bodies], 3),
+        ("blockedDOFs", [len(b.state.blockedDOFs) for b in bodies], 1)])
+
+
+def _elements(vtk, bodies, node_attrs, cell_type, fields):
+    """Cylinders or facets: cells over their nodes (only the nodes they use), shape fields as
+    cell data, node id and velocity as point data."""
+    index, nodes, conn = {}, [], []
+    for b in bodies:
+        for a in node_attrs:
+            i = getattr(b.shape, a)
+            if i not in index:
+                index[i] = len(nodes)
+                nodes.append(O.bodies[i])
+            conn.append(index[i])
+    return _grid(vtk, [tuple(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
+                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [tuple(nb.state.vel) for nb in nodes], 3)],
+                 cell_data=[("id", [b.id for b in bodies], 1)] + [(f, [getattr(b.shape, f) for b in bodies], 1) for f in fields])
+
+
+def _rigid(vtk, bodies, cell_type, local_corners, extra):
+    """Rigid bodies drawn from corners in their local frame (pos + ori * corner)."""
+    pts = [tuple(b.state.pos + b.state.ori * c) for b in bodies for c in local_corners(b)]
+    vel = [tuple(b.state.vel) for b in bodies]
+    nper = len(pts) // len(bodies) if bodies else {_VTK_HEXAHEDRON: 8, _VTK_TRIANGLE: 3}[cell_type]
+    return _grid(vtk, pts, cell_type, range(len(pts)), nper, cell_data=[
+        ("id", [b.id for b in bodies], 1), ("velocity", vel, 3),
+        ("speed", [math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel], 1)] + extra(bodies))
+
+
+def _box_corners(b):
+    e = b.shape.extents
+    return [type(e)(sx * e[0], sy * e[1], sz * e[2]) for sx, sy, sz in _HEX_CORNERS]
+
+
+_BUILD = {
+    "nodes": lambda vtk, bs: _particles(vtk, bs),
+    "cylinders": lambda vtk, bs: _elements(vtk, bs, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS),
+    "facets": lambda vtk, bs: _elements(vtk, bs, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS),
+    "spheres": lambda vtk, bs: _particles(vtk, bs),
+    "boxes": lambda vtk, bs: _rigid(vtk, bs, _VTK_HEXAHEDRON, _box_corners,
+                                    lambda bs_: [("extents", [tuple(b.shape.extents) for b in bs_], 3)]),
+    "rigid_facets": lambda vtk, bs: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: []),
+}
+
+
+def _group_of(shape):
+    # FlexNode, FlexCylinder and FlexFacet derive from Shape only, so the order does not matter.
+    for cls, g in ((FlexNode, "nodes"), (FlexCylinder, "cylinders"), (FlexFacet, "facets"), (Sphere, "spheres"),
+                   (Box, "boxes"), (Facet, "rigid_facets")):
+        if isinstance(shape, cls):
+            return g
+    return None
+
+
+def scene_groups():
+    """dict group -> list of bodies (in id order) of the current scene; only non-empty groups."""
+    out = {}
+    for b in O.bodies:
+        if b is None:
+            continue
+        g = _group_of(b.shape)
+        if g is not None:
+            out.setdefault(g, []).append(b)
+    return out
+
+
+def _write_vtu(vtk, grid, path):
+    fd = grid.GetFieldData()
+    fd.AddArray(_array(vtk, "TimeValue", [O.time]))
+    it = vtk["vtkIntArray"]()
+    it.SetName("Iteration")
+    it.InsertNextValue(O.iter)
+    fd.AddArray(it)
+    w = vtk["writer"]()
+    w.SetFileName(path)
+    w.SetInputData(grid)
+    w.SetDataModeToAppended()
+    w.EncodeAppendedDataOff()
+    w.SetHeaderTypeToUInt64()
+    if w.Write() != 1:
+        raise OSError(f"VTK could not write {path}")
+
+
+def _write_pvd(path, datasets):
+    """Collection file; datasets: (time, part, name, file). Written to a temporary file and
+    renamed, so the .pvd on disk is always complete."""
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>"]
+    lines += [f'    <DataSet timestep="{t!r}" group="" part="{p}" name={quoteattr(n)} file={quoteattr(f)}/>'
+              for t, p, n, f in datasets]
+    lines += ["  </Collection>", "</VTKFile>", ""]
+    folder = os.path.dirname(path) or "."
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".pvd")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write("\n".join(lines))
+        os.chmod(tmp, 0o644)  # mkstemp makes it 0600
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _check_name(what, name):
+    if not isinstance(name, str) or not name or os.sep in name or name in (".", ".."):
+        raise ValueError(f"{what} must be a non-empty file name without '{os.sep}', got {name!r}")
+    return name
+
+
+def _check_every(every):
+    if not (isinstance(every, int) and not isinstance(every, bool) and every >= 1):
+        raise ValueError(f"every must be a positive whole number of steps, got {every!r}")
+    return every
+
+
+def write_vtk_snapshot(folder, name):
+    """One frame: FOLDER/NAME_GROUP.vtu for each non-empty group and FOLDER/NAME.pvd listing them
+    at O.time. Returns dict group -> path, plus 'pvd'."""
+    vtk = _vtk()
+    _check_name("snapshot name", name)
+    os.makedirs(folder, exist_ok=True)
+    paths, datasets = {}, []
+    groups = scene_groups()
+    for part, g in enumerate(x for x in GROUPS if x in groups):
+        fn = f"{name}_{g}.vtu"
+        _write_vtu(vtk, _BUILD[g](vtk, groups[g]), os.path.join(folder, fn))
+        paths[g] = os.path.join(folder, fn)
+        datasets.append((float(O.time), part, g, fn))
+    paths["pvd"] = os.path.join(folder, name + ".pvd")
+    _write_pvd(paths["pvd"], datasets)
+    return paths
+
+
+_REGISTRY = {}
+_KEYS = itertools.count()
+
+
+class _Periodic:
+    """Writes at a call only if `every` steps have passed since its last write (the first call
+    always writes), so it can be called after every step of a loop; runner() gives a PyRunner
+    that calls it every `every` steps."""
+
+    def __init__(self, every):
+        self.every = _check_every(every)
+        self.last_iter = None
+        self._key = next(_KEYS)
+        _REGISTRY[self._key] = self
+
+    def _due(self):
+        return self.last_iter is None or O.iter >= self.last_iter + self.every
+
+    def runner(self, label=""):
+        """PyRunner(iterPeriod=every) calling this recorder; put it after the integrator in
+        O.engines. The command finds the recorder in this module's registry, so it only works
+        in the process that created it (not after O.save/O.load in another one)."""
+        return PyRunner(iterPeriod=self.every, initRun=True, label=label,
+                        command=f"import yadeflex.output as _yfo; _yfo._REGISTRY[{self._key}]()")
+
+
+class VtkRecorder(_Periodic):
+    """VTK time series of the scene: FOLDER/PREFIX.pvd and per frame FOLDER/PREFIX_GROUP_NNNNNN.vtu.
+
+    Call it (from a loop, or via runner() from a PyRunner) to write a frame; it writes at most
+    one frame per `every` steps [-] and none twice at one iteration. Returns the dict group ->
+    path of the frame written (the shared empty file for groups without bodies), or None if it
+    did not write. The .pvd of an earlier run with the same prefix is replaced at the first
+    frame. See the module docstring for the groups, their data and the empty-group rule."""
+
+    def __init__(self, folder, prefix="flex", every=1):
+        super().__init__(every)
+        self.folder = folder
+        self.prefix = _check_name("prefix", prefix)
+        self.pvd = os.path.join(folder, prefix + ".pvd")
+        self.frames = []  # (time [s], iteration, {group: file name}) of the frames written
+        self.groups = []  # groups seen so far, in GROUPS order
+        os.makedirs(folder, exist_ok=True)
+
+    def _empty_file(self, g):
+        return f"{self.prefix}_{g}_empty.vtu"
+
+    def __call__(self):
+        if not self._due():
+            return None
+        vtk = _vtk()
+        groups = scene_groups()
+        k = len(self.frames)
+        files = {}
+        for g in GROUPS:
+            if g not in groups:
+                continue
+            files[g] = f"{self.prefix}_{g}_{k:06d}.vtu"
+            _write_vtu(vtk, _BUILD[g](vtk, groups[g]), os.path.join(self.folder, files[g]))
+            if g not in self.groups:
+                _write_vtu(vtk, _BUILD[g](vtk, []), os.path.join(self.folder, self._empty_file(g)))
+                self.groups = [x for x in GROUPS if x in self.groups or x == g]
+        self.frames.append((float(O.time), O.iter, files))
+        self.last_iter = O.iter
+        datasets = [(t, part, g, fr.get(g, self._empty_file(g))) for t, _, fr in self.frames for part, g in enumerate(self.groups)]
+        _write_pvd(self.pvd, datasets)
+        return {g: os.path.join(self.folder, files.get(g, self._empty_file(g))) for g in self.groups}
+
+
+# ---- CSV: energies ----------------------------------------------------------------------------
+
+class EnergyRecorder(_Periodic):
+    """Energy budget over time in CSV: columns time[s], iter[-], one column [J] per O.energy term
+    (the union of the terms seen so far, in order of appearance, 0 where a term did not exist
+    yet) and total[J], their sum. Needs O.trackEnergy = True. Call it like VtkRecorder; the file
+    is complete after every call (rewritten when a new term appears, else appended to)."""
+
+    def __init__(self, csv_path, every=1):
+        super().__init__(every)
+        self.path = csv_path
+        self.terms = []
+        self.rows = []  # (time, iter, {term: value})
+        folder = os.path.dirname(csv_path)
+        if folder:
+            os.makedirs(folder, exist_ok=True)
+
+    def header(self):
+        return ["time[s]", "iter[-]"] + [f"{k}[J]" for k in self.terms] + ["total[J]"]
+
+    def _line(self, row):
+        t, it, e = row
+        vals = [e.get(k, 0.0) for k in self.terms]
+        return [repr(float(t)), str(it)] + [repr(float(v)) for v in vals] + [repr(math.fsum(vals))]
+
+    def __call__(self):
+        if not O.trackEnergy:
+            raise RuntimeError("EnergyRecorder: O.trackEnergy is False, so O.energy is not tracked; set O.trackEnergy = True "
+                               "before the first step")
+        if not self._due():
+            return None
+        e = {k: float(O.energy[k]) for k in O.energy.keys()}
+        new = [k for k in e if k not in self.terms]
+        self.terms += new
+        row = (float(O.time), O.iter, e)
+        self.rows.append(row)
+        self.last_iter = O.iter
+        if new or len(self.rows) == 1:
+            with open(self.path, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(self.header())
+                w.writerows(self._line(r) for r in self.rows)
+        else:
+            with open(self.path, "a", newline="") as fh:
+                csv.writer(fh).writerow(self._line(row))
+        return row
+
+
+# ---- CSV reading and plots --------------------------------------------------------------------
+
+_HEADER = re.compile(r"^\s*(.*?)\s*\[([^\]]*)\]\s*$")
+_KNOWN_UNITS = {"time": "s", "t": "s", "iter": "-", "iteration": "-", "dt": "s"}
+
+
+def read_csv(path):
+    """(names, units, columns) of a CSV with a header row: names without units, units from
+    'NAME[UNIT]' headers ('' if none), columns: dict name -> numpy array (NaN for empty cells)."""
+    if not os.path.isfile(path):
+        raise ValueError(f"CSV file {path!r} does not exist")
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows:
+        raise ValueError(f"{path}: empty CSV file")
+    names, units = [], {}
+    for h in rows[0]:
+        m = _HEADER.match(h)
+        name, unit = (m.group(1), m.group(2)) if m else (h.strip(), "")
+        names.append(name)
+        units[name] = unit or _KNOWN_UNITS.get(name, "")
+    try:
+        data = np.array([[float(v) if v.strip() else np.nan for v in r] for r in rows[1:] if r], dtype=float)
+    except ValueError as err:
+        raise ValueError(f"{path}: a value is not a number ({err})") from None
+    data = data.reshape(-1, len(names))
+    return names, units, {n: data[:, k] for k, n in enumerate(names)}
+
+
+def _label(name, unit):
+    return f"{name} [{unit}]" if unit else name
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, png_path):
+    folder = os.path.dirname(png_path)
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+    fig.savefig(png_path, dpi=110)
+
+
+def plot_timeseries(csv_path, columns, png_path, x=None, title=None, ylabel=None, units=None, logy=False):
+    """Plot `columns` (names, with or without their '[unit]') of a time-series CSV against its
+    first column (or x) into png_path. units: dict name -> unit for headers without one. The
+    y label is the common unit; the legend gives each column with its unit. Returns png_path."""
+    names, hunits, data = read_csv(csv_path)
+    hunits.update(units or {})
+    strip = lambda c: _HEADER.match(c).group(1) if _HEADER.match(c) else c.strip()
+    xs = strip(x) if x is not None else names[0]
+    cols = [strip(c) for c in ([columns] if isinstance(columns, str) else columns)]
+    for c in [xs] + cols:
+        if c not in data:
+            raise ValueError(f"{csv_path}: no column {c!r} (columns: {names})")
+    if not cols:
+        raise ValueError("plot_timeseries needs at least one column")
+    if len(data[xs]) == 0:
+        raise ValueError(f"{csv_path}: no data rows")
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for c in cols:
+        ax.plot(data[xs], data[c], lw=1.2, label=_label(c, hunits[c]))
+    ax.set_xlabel(_label(xs, hunits[xs]))
+    common = {hunits[c] for c in cols}
+    ax.set_ylabel(ylabel or (_label(cols[0] if len(cols) == 1 else "value", common.pop()) if len(common) == 1 else "value"))
+    if logy:
+        ax.set_yscale("log")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    _save(fig, png_path)
+    plt.close(fig)
+    return png_path
+
+
+ENERGY_ALPHA = 0.75  # fill opacity of the energy terms in plot_energy
+
+
+def plot_energy(csv_path, png_path, title="Energy budget"):
+    """Energy budget of an EnergyRecorder CSV (or any CSV: time first, terms in [J], optional
+    total[J]) into png_path. Top: the terms stacked, positive parts upwards and negative parts
+    (e.g. gravWork) downwards, with the total (their sum) as a line. Bottom: the residual,
+    total(t) - total(t0) [J]. Returns dict(terms, total_start, max_abs_residual [J],
+    max_abs_residual_rel [-] (relative to the largest |term|), colors: term -> fill colour, drawn
+    with opacity ENERGY_ALPHA)."""
+    names, units, data = read_csv(csv_path)
+    t = data[names[0]]
+    if len(t) == 0:
+        raise ValueError(f"{csv_path}: no data rows")
+    skip = {names[0], "iter", "iteration", "total"}
+    terms = [n for n in names if n not in skip and not n.startswith("residual") and units[n] in ("J", "")]
+    if not terms:
+        raise ValueError(f"{csv_path}: no energy columns (expected NAME[J]; columns: {names})")
+    vals = np.nan_to_num(np.array([data[n] for n in terms]))
+    total = data["total"] if "total" in data else vals.sum(axis=0)
+    residual = total - total[0]
+    scale = float(np.max(np.abs(vals))) if vals.size else 0.0
+    plt = _pyplot()
+    fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, gridspec_kw=dict(height_ratios=(3, 1)))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    cols = [colors[k % len(colors)] for k in range(len(terms))]
+    ax.stackplot(t, np.clip(vals, 0, None), labels=terms, colors=cols, alpha=ENERGY_ALPHA)
+    ax.stackplot(t, np.clip(vals, None, 0), colors=cols, alpha=ENERGY_ALPHA)
+    ax.plot(t, total, "k-", lw=1.5, label="total (sum)")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_ylabel("energy [J]")
+    ax.set_title(title)
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    axr.plot(t, residual, "r-", lw=1.2)
+    axr.axhline(0, color="k", lw=0.5)
+    axr.set_ylabel("total - total(t0) [J]")
+    axr.set_xlabel(_label(names[0], units[names[0]]))
+    axr.grid(True, lw=0.3)
+    fig.tight_layout()
+    _save(fig, png_path)
+    plt.close(fig)
+    res = float(np.max(np.abs(residual)))
+    return dict(terms=terms, colors=dict(zip(terms, cols)), total_start=float(total[0]), max_abs_residual=res,
+                max_abs_residual_rel=res / scale if scale > 0 else 0.0)

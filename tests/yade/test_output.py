@@ -1,0 +1,323 @@
+"""Results output: VTK time series read back with VTK's own reader, energy CSV, plots."""
+import csv
+import math
+import os
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from yade import O
+from yade.minieigenHP import Quaternion, Vector3
+from yade.wrapper import Body, Box, FrictMat
+
+import yadeflex as yf
+import yadeflex.membrane_scenes as MS
+import yadeflex.scenes as S
+
+
+# ---- helpers ----------------------------------------------------------------------------------
+
+def _read_pvd(path):
+    """[(time, name, part, file)] in file order (the .pvd is plain XML)."""
+    root = ET.parse(path).getroot()
+    assert root.get("type") == "Collection"
+    return [(float(d.get("timestep")), d.get("name"), int(d.get("part")), d.get("file")) for d in root.iter("DataSet")]
+
+
+def _frames(path):
+    """[(time, [(name, file), ...])] grouped by time, in file order."""
+    out = []
+    for t, name, part, f in _read_pvd(path):
+        if not out or out[-1][0] != t:
+            out.append((t, []))
+        assert part == len(out[-1][1])
+        out[-1][1].append((name, f))
+    return out
+
+
+def _read(path):
+    r = vtkXMLUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    assert r.GetErrorCode() == 0, path
+    return r.GetOutput()
+
+
+def _pd(g, name):
+    a = g.GetPointData().GetArray(name)
+    assert a is not None, name
+    return vtk_to_numpy(a)
+
+
+def _cd(g, name):
+    a = g.GetCellData().GetArray(name)
+    assert a is not None, name
+    return vtk_to_numpy(a)
+
+
+def _points(g):
+    return vtk_to_numpy(g.GetPoints().GetData()) if g.GetNumberOfPoints() else np.zeros((0, 3))
+
+
+def _cell_point_ids(g, k):
+    c = g.GetCell(k)
+    return [c.GetPointId(j) for j in range(c.GetNumberOfPoints())]
+
+
+def _vec(v):
+    return np.array([v[0], v[1], v[2]])
+
+
+def _mixed_scene():
+    """A TECCO-wire chain clamped at both ends with its middle node pulled down (tension, per-link
+    slack), a 2 x 2 geotextile sheet with its centre node lifted (membrane tension) and a
+    falling sphere, far from each other."""
+    nodes, cyls = yf.chain([(0, 0, 0), (1, 0, 0)], 0.0015, yf.tecco_wire(), segments=4, fixed=[0, 4])
+    O.bodies[nodes[2]].state.pos += Vector3(0, 0, -0.02)
+    sh = yf.sheet(2, 2, (1, 1), 0.002, yf.geotextile(), origin=(0, 2, 0))
+    O.bodies[sh["grid"][1][1]].state.pos += Vector3(0, 0, 0.05)
+    s = S.sphere((3, 0, 1), 0.05, velocity=(1, 2, -3))
+    O.engines = yf.engines()
+    return dict(nodes=nodes, cylinders=cyls, sheet=sh, sphere=s)
+
+
+# ---- VTK time series ----------------------------------------------------------------------------
+
+def test_vtk_series_matches_scene(scene, tmp_path):
+    sc = _mixed_scene()
+    rec = yf.VtkRecorder(str(tmp_path), prefix="run", every=2)
+    written = [rec() is not None]
+    for _ in range(4):
+        O.step()
+        written.append(rec() is not None)
+    assert written == [True, False, True, False, True]  # iterations 0, 2, 4
+
+    frames = _frames(rec.pvd)
+    assert [len(fr) for _, fr in frames] == [4, 4, 4]
+    times = [t for t, _ in frames]
+    assert times[0] == 0.0 and all(b > a for a, b in zip(times, times[1:]))
+    assert times[-1] == O.time
+    assert [n for n, _ in frames[-1][1]] == ["nodes", "cylinders", "facets", "spheres"]
+    files = {n: os.path.join(str(tmp_path), f) for n, f in frames[-1][1]}
+    assert all(os.path.basename(f).endswith("_000002.vtu") for f in files.values())
+
+    all_nodes = [b for b in O.bodies if b is not None and isinstance(b.shape, yf.output.FlexNode)]
+    g = _read(files["nodes"])
+    assert g.GetNumberOfPoints() == g.GetNumberOfCells() == len(all_nodes) == 5 + 9
+    assert vtk_to_numpy(g.GetFieldData().GetArray("TimeValue"))[0] == O.time
+    assert vtk_to_numpy(g.GetFieldData().GetArray("Iteration"))[0] == O.iter == 4
+    ids = _pd(g, "id")
+    assert list(ids) == [b.id for b in all_nodes]
+    for k, b in enumerate(all_nodes):
+        assert np.array_equal(_points(g)[k], _vec(b.state.pos))
+        assert np.array_equal(_pd(g, "velocity")[k], _vec(b.state.vel))
+        assert _pd(g, "mass")[k] == b.state.mass
+        assert _pd(g, "blockedDOFs")[k] == len(b.state.blockedDOFs)
+    assert np.max(np.abs(_pd(g, "velocity"))) > 0  # the comparison is not between zeros
+
+    g = _read(files["cylinders"])
+    cyls = sc["cylinders"]
+    assert g.GetNumberOfCells() == len(cyls) == 4 and g.GetNumberOfPoints() == 5
+    pid, pos = _pd(g, "id"), _points(g)
+    assert list(_cd(g, "id")) == cyls
+    for k, c in enumerate(cyls):
+        sh = O.bodies[c].shape
+        assert [pid[j] for j in _cell_point_ids(g, k)] == [sh.node1, sh.node2]
+        for j, n in zip(_cell_point_ids(g, k), (sh.node1, sh.node2)):
+            assert np.array_equal(pos[j], _vec(O.bodies[n].state.pos))
+        for f in ("radius", "axialForce", "strain", "plasticStrain", "wireSlack", "elasticEnergy"):
+            assert _cd(g, f)[k] == getattr(sh, f), f
+    assert np.max(np.abs(_cd(g, "axialForce"))) > 1.0
+    assert len(set(_cd(g, "wireSlack"))) == 4  # per-link values, so a mix-up of cells would show
+
+    g = _read(files["facets"])
+    fac = sc["sheet"]["facets"]
+    assert g.GetNumberOfCells() == len(fac) == 8 and g.GetNumberOfPoints() == 9
+    pid, pos = _pd(g, "id"), _points(g)
+    for k, f in enumerate(fac):
+        sh = O.bodies[f].shape
+        assert _cd(g, "id")[k] == f
+        assert [pid[j] for j in _cell_point_ids(g, k)] == [sh.node1, sh.node2, sh.node3]
+        for j, n in zip(_cell_point_ids(g, k), (sh.node1, sh.node2, sh.node3)):
+            assert np.array_equal(pos[j], _vec(O.bodies[n].state.pos))
+        for name in ("n1", "n2", "e1", "e2", "elasticEnergy", "radius"):
+            assert _cd(g, name)[k] == getattr(sh, name), name
+    assert np.min(_cd(g, "n1")) > 0
+
+    g = _read(files["spheres"])
+    b = O.bodies[sc["sphere"]]
+    assert g.GetNumberOfPoints() == g.GetNumberOfCells() == 1
+    assert np.array_equal(_points(g)[0], _vec(b.state.pos))
+    assert _pd(g, "radius")[0] == 0.05 and _pd(g, "id")[0] == b.id
+    assert np.array_equal(_pd(g, "velocity")[0], _vec(b.state.vel))
+    assert _pd(g, "speed")[0] == pytest.approx(b.state.vel.norm(), rel=1e-15)
+
+
+def test_vtk_groups_appearing_and_vanishing_keep_the_blocks(scene, tmp_path):
+    """A sphere added after the first frame and erased before the last: every frame lists the same
+    blocks; the frames without it point to one empty file; the erased body is skipped."""
+    yf.chain([(0, 0, 0), (1, 0, 0)], 0.002, yf.steel(), segments=3, fixed=[0])
+    O.engines = yf.engines()
+    rec = yf.VtkRecorder(str(tmp_path / "out"))
+    rec()
+    s = S.sphere((3, 0, 1), 0.05)
+    O.step()
+    rec()
+    O.bodies.erase(s)
+    O.step()
+    rec()
+    frames = _frames(rec.pvd)
+    assert [[n for n, _ in fr] for _, fr in frames] == [["nodes", "cylinders", "spheres"]] * 3
+    sph = [dict(fr)["spheres"] for _, fr in frames]
+    assert sph[0] == sph[2] == "flex_spheres_empty.vtu" and sph[1] == "flex_spheres_000001.vtu"
+    empty, full = (_read(str(tmp_path / "out" / f)) for f in sph[:2])
+    assert empty.GetNumberOfPoints() == empty.GetNumberOfCells() == 0
+    assert full.GetNumberOfPoints() == 1
+    names = lambda g: sorted(g.GetPointData().GetArrayName(i) for i in range(g.GetPointData().GetNumberOfArrays()))
+    assert names(empty) == names(full)
+    assert not os.path.exists(tmp_path / "out" / "flex_facets_empty.vtu")  # never had a body: no file
+
+
+def test_vtk_runner_every_and_pvd_valid_after_each_frame(scene, tmp_path):
+    yf.chain([(0, 0, 0), (1, 0, 0)], 0.002, yf.steel(), segments=2, fixed=[0])
+    O.engines = yf.engines()
+    rec = yf.VtkRecorder(str(tmp_path), every=3)
+    O.engines = O.engines + [rec.runner()]
+    counts = []
+    for _ in range(7):
+        O.step()
+        counts.append(len(_frames(rec.pvd)))  # parses after every step: the .pvd is always complete XML
+    assert counts == [1, 1, 1, 2, 2, 2, 3]
+    its = [rec.frames[k][1] for k in range(3)]
+    assert its == [0, 3, 6]
+    for k, (_, fr) in enumerate(_frames(rec.pvd)):
+        g = _read(os.path.join(str(tmp_path), dict(fr)["cylinders"]))
+        assert vtk_to_numpy(g.GetFieldData().GetArray("Iteration"))[0] == its[k]
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".tmp")]
+
+
+def test_vtk_boxes_and_rigid_facets(scene, tmp_path):
+    """Hexahedra in VTK's corner order (a wrong order gives a wrong or negative volume)."""
+    from yade import utils
+    mat = FrictMat()
+    O.materials.append(mat)
+    b = Body()
+    b.shape = Box(extents=(0.1, 0.2, 0.3))
+    b.material = mat
+    b.state.pos = (1, 2, 3)
+    b.state.ori = Quaternion(Vector3(1, 2, 3).normalized(), 0.7)
+    b.state.vel = (0.5, 0, 0)
+    box = O.bodies.append(b)
+    fct = O.bodies.append(utils.facet([(0, 0, 0), (1, 0, 0), (0, 1, 1)]))
+    paths = yf.write_vtk_snapshot(str(tmp_path), "snap")
+    assert sorted(paths) == ["boxes", "pvd", "rigid_facets"]
+    assert [(n, f) for _, n, _, f in _read_pvd(paths["pvd"])] == [("boxes", "snap_boxes.vtu"), ("rigid_facets", "snap_rigid_facets.vtu")]
+
+    g = _read(paths["boxes"])
+    assert g.GetNumberOfCells() == 1 and g.GetCellType(0) == 12
+    f = vtkCellSizeFilter()
+    f.SetInputData(g)
+    f.Update()
+    vol = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("Volume"))[0]
+    assert vol == pytest.approx(8 * 0.1 * 0.2 * 0.3, rel=1e-12)
+    assert np.allclose(_points(g).mean(axis=0), [1, 2, 3], atol=1e-14)
+    assert np.array_equal(_cd(g, "velocity")[0], [0.5, 0, 0]) and _cd(g, "id")[0] == box
+    assert np.allclose(_cd(g, "extents")[0], [0.1, 0.2, 0.3])
+
+    g = _read(paths["rigid_facets"])
+    assert g.GetNumberOfCells() == 1 and g.GetCellType(0) == 5 and _cd(g, "id")[0] == fct
+    assert np.allclose(_points(g), [[0, 0, 0], [1, 0, 0], [0, 1, 1]], atol=1e-14)
+
+
+def test_vtk_bad_arguments(scene, tmp_path):
+    with pytest.raises(ValueError, match="every"):
+        yf.VtkRecorder(str(tmp_path), every=0)
+    with pytest.raises(ValueError, match="prefix"):
+        yf.VtkRecorder(str(tmp_path), prefix="a/b")
+
+
+# ---- energy CSV and plots ------------------------------------------------------------------------
+
+def _energy_run(tmp_path, steps=400, every=20):
+    """A sphere released touching a 4 x 4 geotextile sheet: kinetic, gravity, membrane and contact
+    terms, none of them booked at iteration 0."""
+    MS.sheet_impact(n=4, drop=0.0)
+    O.trackEnergy = True
+    rec = yf.EnergyRecorder(str(tmp_path / "energy.csv"), every=every)
+    rec()  # iteration 0: no term booked yet
+    seen = set()
+    for _ in range(steps):
+        O.step()
+        seen |= set(O.energy.keys())
+        rec()
+    return rec, seen
+
+
+def test_energy_recorder_columns_and_total(scene, tmp_path):
+    rec, seen = _energy_run(tmp_path)
+    with open(rec.path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    head = rows[0]
+    assert head[:2] == ["time[s]", "iter[-]"] and head[-1] == "total[J]"
+    terms = [h[:-3] for h in head[2:-1]]
+    assert all(h.endswith("[J]") for h in head[2:-1])
+    assert set(terms) == seen and len(terms) == len(seen)
+    assert {"kinetic", "gravWork", "flexMembraneElastic", "flexContactElastic"} <= seen
+    data = [[float(v) for v in r] for r in rows[1:]]
+    assert [int(r[1]) for r in data] == list(range(0, 401, 20))
+    assert all(v == 0.0 for v in data[0][2:])  # zero-filled: nothing was booked at iteration 0
+    for r in data:
+        assert r[-1] == math.fsum(r[2:-1])
+    assert data[-1][-1] == pytest.approx(O.energy.total(), rel=1e-12, abs=1e-15)
+    assert max(abs(v) for v in data[-1][2:-1]) > 1e-3  # the sphere has fallen: real energies, not zeros
+
+
+def test_energy_recorder_needs_tracking(scene, tmp_path):
+    O.trackEnergy = False
+    with pytest.raises(RuntimeError, match="trackEnergy"):
+        yf.EnergyRecorder(str(tmp_path / "e.csv"))()
+
+
+def _nonwhite_fraction(png):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+    img = mpimg.imread(png)
+    return float(np.mean(np.any(img[..., :3] < 0.9, axis=-1))), float(img[..., :3].std())
+
+
+def _colour_fraction(png, colour, alpha):
+    """Fraction of the pixels showing `colour` filled with opacity alpha over white."""
+    import matplotlib
+    import matplotlib.image as mpimg
+    img = mpimg.imread(png)[..., :3]
+    want = alpha * np.array(matplotlib.colors.to_rgb(colour)) + (1 - alpha)
+    return float(np.mean(np.all(np.abs(img - want) < 0.02, axis=-1)))
+
+
+def test_plots(scene, tmp_path):
+    rec, _ = _energy_run(tmp_path)
+    info = yf.plot_energy(rec.path, str(tmp_path / "energy.png"))
+    names, units, cols = yf.read_csv(rec.path)
+    assert info["terms"] == names[2:-1] and units["total"] == "J" and units["time"] == "s"
+    res = cols["total"] - cols["total"][0]
+    assert info["max_abs_residual"] == np.max(np.abs(res))
+    frac, std = _nonwhite_fraction(str(tmp_path / "energy.png"))
+    assert os.path.getsize(tmp_path / "energy.png") > 20e3 and frac > 0.03 and std > 0.05
+    # every term that matters has a visible area in its colour: kinetic above zero, gravWork below
+    big = [n for n in info["terms"] if np.max(np.abs(cols[n])) > 0.1 * max(np.max(np.abs(cols[m])) for m in info["terms"])]
+    assert set(big) == {"kinetic", "gravWork"}
+    for n in big:
+        assert _colour_fraction(str(tmp_path / "energy.png"), info["colors"][n], yf.output.ENERGY_ALPHA) > 0.02, n
+
+    png = yf.plot_timeseries(rec.path, ["kinetic", "total[J]"], str(tmp_path / "ts.png"), title="t")
+    assert os.path.getsize(png) > 15e3
+    # one line per column, in matplotlib's first colours, and no third line
+    line = [_colour_fraction(png, c, 1.0) for c in ("C0", "C1", "C2")]
+    assert line[0] > 8e-4 and line[1] > 8e-4 and line[2] == 0.0, line
+    with pytest.raises(ValueError, match="nosuch"):
+        yf.plot_timeseries(rec.path, ["nosuch"], str(tmp_path / "x.png"))
+    assert not os.path.exists(tmp_path / "x.png")
