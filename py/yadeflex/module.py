@@ -64,6 +64,7 @@ class ModuleParams:
     grain_max: float = None          # [m]
     fill_friction_deg: float = None  # [deg]
     rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
+    fill_young: float = None         # [Pa] contact modulus of the grains (override the preset)
     boulder_mass: float = 800.0      # [kg]
     boulder_shape: str = "cube"      # 'cube' or 'sphere'
     boulder_density: float = 2400.0  # [kg/m3] concrete
@@ -90,6 +91,8 @@ class ModuleParams:
             p["friction_deg"] = self.fill_friction_deg
         if self.rolling_friction is not None:
             p["rolling_friction"] = self.rolling_friction
+        if self.fill_young is not None:
+            p["young"] = self.fill_young
         return p
 
     def engines(self, damping):
@@ -110,6 +113,8 @@ class ModuleParams:
             raise ValueError(f"grain sizes must satisfy 0 < grain_min <= grain_max, got {p['grain_min']!r}, {p['grain_max']!r}")
         if p["grain_max"] > 0.25 * self.diameter:
             raise ValueError(f"grain_max {p['grain_max']} m is too large for a {self.diameter} m module (max diameter/4)")
+        if not (p["young"] > 0 and math.isfinite(p["young"])):
+            raise ValueError(f"fill_young must be positive, got {p['young']!r}")
         if not (p["rolling_friction"] >= 0 and math.isfinite(p["rolling_friction"])):
             raise ValueError(f"rolling_friction must be >= 0, got {p['rolling_friction']!r}")
         if not (0 <= p["friction_deg"] < 90):
@@ -152,7 +157,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 3
+        d["_version"] = 5
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -213,7 +218,11 @@ def build_filled(params, progress=None):
     O.reset()
     R = 0.5 * params.diameter
     H = params.height
-    r_lin = R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015  # lining midplane inside the wires
+    # lining midplane inside the wires, and inside the rings: a ring is a polygon through the
+    # mesh edge nodes (about pi D / dy of them), whose chords cut inwards by R (1 - cos(dy/D))
+    from .mesh import TECCO_G65_DY
+    r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
+                R * math.cos(TECCO_G65_DY / params.diameter) - 0.5 * params.ring_bar_diameter - 0.5 * params.lining_thickness - 0.002)
     r_in = r_lin - 0.5 * params.lining_thickness  # what the grains may reach
     # --- stage 1: grains in a rigid container, loose cubic lattice up to 2.2 H
     gmat = _grain_material(p)
@@ -256,7 +265,9 @@ def build_filled(params, progress=None):
     O.materials.append(wire)
     from .materials import steel
     ring_mat = steel(label="ring_steel", friction_deg=30.0, contact_young=params.steel_contact_young)
-    gtx = M.geotextile(friction_deg=30.0) if params.lining else None
+    # contact modulus 1e10 Pa: kn = E r = 1e7 N/m for the 1 mm half thickness, so that the
+    # lining pressed between grains and a ring does not pass through the ring (at 1e9 it did)
+    gtx = M.geotextile(friction_deg=30.0, contact_young=1e10) if params.lining else None
     per = []
     for cx, cy in params.centers():
         mesh = chain_link_cylinder(params.diameter, H, wire, center=(cx, cy, 0))
