@@ -17,6 +17,7 @@ from .scene import engines, critical_timestep, energy_budget, bond_forces, conta
 from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 from .rope import rope_around
+from .view import view, snapshot, scene_box
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
@@ -25,4 +26,5 @@ __all__ = [
     "membrane_state",
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on",
     "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
+    "view", "snapshot", "scene_box",
 ]
