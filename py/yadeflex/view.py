@@ -40,14 +40,19 @@ def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 
     grey: zero, red: tension; range +- the largest value in the scene, or set
     Gl1_FlexCylinder.forceRange / Gl1_FlexFacet.forceRange). show_nodes: draw the nodes as
     spheres of their radius. direction, up: viewing direction and the direction shown up."""
-    from yade import qt  # needs a display
-
+    try:
+        from yade import qt
+    except ImportError as e:
+        raise RuntimeError("yadeflex.view needs YADE's Qt GUI: run yade without -n, on a display (or under xvfb-run)") from e
     Gl1_FlexCylinder.colorByForce = Gl1_FlexFacet.colorByForce = bool(color_by_force)
     Gl1_FlexNode.show = bool(show_nodes)
     v = qt.views()[0] if qt.views() else qt.View()
     v.upVector = Vector3(*up)  # first: setting it turns the camera square to it
     v.viewDir = Vector3(*direction)
-    v.fitAABB(*scene_box())
+    # the sphere around the whole box (GLViewer.fitAABB fits the sphere of its largest side only,
+    # and the clipping planes follow the scene radius)
+    lo, hi = scene_box()
+    qt.center(suggestedRadius=max(0.5 * (hi - lo).norm(), 1e-6), suggestedCenter=0.5 * (lo + hi))
     return v
 
 
@@ -56,8 +61,10 @@ def snapshot(path):
     lossless). Works in scripts (yade -x) where no Qt event loop runs; YADE's own
     GLViewer.saveSnapshot waits for the next repaint and writes JPEG whatever the suffix.
     Returns path."""
-    from PyQt5.QtWidgets import QApplication
-
+    try:
+        from PyQt5.QtWidgets import QApplication
+    except ImportError as e:
+        raise RuntimeError("yadeflex.snapshot needs YADE's Qt GUI (PyQt5)") from e
     app = QApplication.instance()
     widgets = [w for w in app.topLevelWidgets() if w.metaObject().className() == "yade::GLViewer"] if app else []
     if not widgets:

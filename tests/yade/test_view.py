@@ -14,6 +14,7 @@ import time
 import pytest
 
 from conftest import HERE, run_yade
+import yadeflex as yf
 
 np = pytest.importorskip("numpy")
 Image = pytest.importorskip("PIL.Image", reason="python3-pil (Debian) reads the snapshots")
@@ -154,3 +155,11 @@ def test_drawing_while_running(shots):
     r, boxes = shots["cls"]["running"], shots["boxes"]
     assert _count(r["red"], boxes["ring"]) > 0.9 * _count(shots["cls"]["all"]["red"], boxes["ring"])  # the ring is clamped
     assert _count(r["green"], boxes["chain"]) > 0 and _count(r["blue"], boxes["sheet"]) > 0
+
+
+def test_without_a_display_the_view_says_so(scene):
+    # in-process YADE runs without GUI, like yade -n
+    with pytest.raises(RuntimeError, match="Qt GUI"):
+        yf.view()
+    with pytest.raises(RuntimeError, match="view"):
+        yf.snapshot("never.png")
