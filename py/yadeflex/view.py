@@ -7,7 +7,7 @@ import math
 
 from yade import O
 from yade.minieigenHP import Vector3
-from yade.wrapper import FlexNode, Gl1_FlexCylinder, Gl1_FlexFacet, Gl1_FlexNode, Sphere
+from yade.wrapper import FlexNode, Sphere
 
 
 def scene_box():
@@ -44,6 +44,8 @@ def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 
         from yade import qt
     except ImportError as e:
         raise RuntimeError("yadeflex.view needs YADE's Qt GUI: run yade without -n, on a display (or under xvfb-run)") from e
+    from yade.wrapper import Gl1_FlexCylinder, Gl1_FlexFacet, Gl1_FlexNode  # here: the package imports with an older plugin
+
     Gl1_FlexCylinder.colorByForce = Gl1_FlexFacet.colorByForce = bool(color_by_force)
     Gl1_FlexNode.show = bool(show_nodes)
     v = qt.views()[0] if qt.views() else qt.View()
