@@ -34,10 +34,12 @@ def scene():
     O.reset()
 
 
-def run_yade(script, threads=1, args=(), timeout=600):
-    """Run a script in yade-double with `threads` OpenMP threads; return its stdout."""
+def run_yade(script, threads=1, args=(), timeout=600, display=False):
+    """Run a script in yade-double with `threads` OpenMP threads; return its stdout.
+    display: with YADE's Qt GUI on a virtual X server (xvfb-run), for the 3D view."""
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), PYTHONPATH=os.path.join(REPO, "py") + os.pathsep + HERE)
-    cmd = ["yade-double", "-n", "-j", str(threads), "-x", script, *map(str, args)]
+    gui = ["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", "yade-double"] if display else ["yade-double", "-n"]
+    cmd = [*gui, "-j", str(threads), "-x", script, *map(str, args)]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
     if res.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({res.returncode}):\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}")

@@ -1,0 +1,78 @@
+"""YADE's 3D view for scenes with yade-flex elements (needs a display: not with yade -n).
+
+The drawing itself is done by the Gl1 functors of the plugin (pkg/yade/FlexGl.hpp):
+Gl1_FlexCylinder (capsules), Gl1_FlexFacet (membrane triangles), Gl1_FlexNode (off by default).
+"""
+import math
+
+from yade import O
+from yade.minieigenHP import Vector3
+from yade.wrapper import FlexNode, Sphere
+
+
+def scene_box():
+    """Axis-aligned box around all bodies [m]: nodes and spheres with their radius, other
+    bodies by their bound (elements lie between their nodes). Returns (min, max)."""
+    lo, hi = [math.inf] * 3, [-math.inf] * 3
+    for b in O.bodies:
+        if b is None:
+            continue
+        if isinstance(b.shape, (FlexNode, Sphere)) and math.isfinite(b.shape.radius):
+            r = b.shape.radius
+            pts = (b.state.pos - Vector3(r, r, r), b.state.pos + Vector3(r, r, r))
+        elif b.bound is not None:
+            pts = (b.bound.min, b.bound.max)
+        else:
+            pts = (b.state.pos,)
+        for p in pts:
+            for k in range(3):
+                if math.isfinite(p[k]):
+                    lo[k], hi[k] = min(lo[k], p[k]), max(hi[k], p[k])
+    if not all(math.isfinite(v) for v in lo + hi):
+        raise ValueError("the scene has no body with a finite position to show")
+    return Vector3(*lo), Vector3(*hi)
+
+
+def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 0, 1)):
+    """Open YADE's 3D view (or take the one open) on the whole scene and return it.
+
+    color_by_force: colour cylinders by axial force and facets by n1 (blue: compression,
+    grey: zero, red: tension; range +- the largest value in the scene, or set
+    Gl1_FlexCylinder.forceRange / Gl1_FlexFacet.forceRange). show_nodes: draw the nodes as
+    spheres of their radius. direction, up: viewing direction and the direction shown up."""
+    try:
+        from yade import qt
+    except ImportError as e:
+        raise RuntimeError("yadeflex.view needs YADE's Qt GUI: run yade without -n, on a display (or under xvfb-run)") from e
+    from yade.wrapper import Gl1_FlexCylinder, Gl1_FlexFacet, Gl1_FlexNode  # here: the package imports with an older plugin
+
+    Gl1_FlexCylinder.colorByForce = Gl1_FlexFacet.colorByForce = bool(color_by_force)
+    Gl1_FlexNode.show = bool(show_nodes)
+    v = qt.views()[0] if qt.views() else qt.View()
+    v.upVector = Vector3(*up)  # first: setting it turns the camera square to it
+    v.viewDir = Vector3(*direction)
+    # the sphere around the whole box (GLViewer.fitAABB fits the sphere of its largest side only,
+    # and the clipping planes follow the scene radius)
+    lo, hi = scene_box()
+    qt.center(suggestedRadius=max(0.5 * (hi - lo).norm(), 1e-6), suggestedCenter=0.5 * (lo + hi))
+    return v
+
+
+def snapshot(path):
+    """Render the open 3D view now and save it to path (format from the suffix: .png is
+    lossless). Works in scripts (yade -x) where no Qt event loop runs; YADE's own
+    GLViewer.saveSnapshot waits for the next repaint and writes JPEG whatever the suffix.
+    Returns path."""
+    try:
+        from PyQt5.QtWidgets import QApplication
+    except ImportError as e:
+        raise RuntimeError("yadeflex.snapshot needs YADE's Qt GUI (PyQt5)") from e
+    app = QApplication.instance()
+    widgets = [w for w in app.topLevelWidgets() if w.metaObject().className() == "yade::GLViewer"] if app else []
+    if not widgets:
+        raise RuntimeError("no 3D view is open: call yadeflex.view() first (and run yade without -n)")
+    app.processEvents()
+    image = widgets[0].grabFramebuffer()
+    if image.isNull() or not image.save(str(path)):
+        raise RuntimeError(f"could not save the 3D view to {path}")
+    return path
