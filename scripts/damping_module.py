@@ -131,6 +131,7 @@ def main():
     rows, erows = [], []
     v_prev, t_prev = Vector3(boulder.state.vel), O.time
     e_impact = 0.5 * mass * p.impact_speed() ** 2
+    iter0 = O.iter
     O.step()
     total0 = O.energy.total()
     start = O.time
@@ -242,7 +243,8 @@ def main():
         energy_end={k: last.get(k, 0.0) for k in keys},
         energy_residual_max_fraction=resid,
         numerical_damping_share=(last.get("nonviscDamp", 0.0) / e_impact),
-        run_time_s=wall_t, fill_time_s=t_fill, filled_from_cache=cached, steps=O.iter, time_per_step_us=1e6 * (wall_t - t_fill) / max(1, O.iter),
+        run_time_s=wall_t, fill_time_s=t_fill, filled_from_cache=cached, impact_steps=O.iter - iter0, dt_end=O.dt,
+        time_per_step_us=1e6 * (wall_t - t_fill) / max(1, O.iter - iter0),
         engine_share=timing, status=status)
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
