@@ -117,6 +117,15 @@ def pfacet_overlap():
     return d, n
 
 
+def touching(bid):
+    """Whether the boulder (a clump's members, or a sphere) has a real interaction."""
+    b = O.bodies[bid]
+    for m in (list(b.shape.members.keys()) if b.isClump else [bid]):
+        if any(i.isReal for i in O.interactions.withBody(m)):
+            return True
+    return False
+
+
 def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
                diag=None):
     """Runs the impact from the current scene, recording like scripts/damping_module.py. Returns a dict:
@@ -140,6 +149,7 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
     steps0, wall0 = O.iter, time.time()
     k = 0
     diag_max = 0.0
+    v_in, rest = abs(boulder.state.vel[2]), None  # a damped boulder may stop without rebounding: end 5 ms after it is at rest
     while O.time < t_end:
         O.step()
         k += 1
@@ -158,7 +168,7 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
         v_prev, t_prev = Vector3(st.vel), O.time
         f = mass * (acc[2] + G)
         bottom = st.pos[2] - 0.5 * size
-        if t_contact is None and f > 0.01 * mass * G and bottom < top0 + 0.01:
+        if t_contact is None and touching(bid):
             t_contact = O.time
             t_end = O.time + t_max
         if t_contact is not None and not saved and O.time >= t_contact + timing_at:
@@ -167,6 +177,14 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
         if t_contact is not None and rebound is None and st.vel[2] > 0:
             rebound = O.time
             t_end = min(t_end, O.time + max(0.2 * (O.time - t_contact), 0.01))
+        if t_contact is not None and rebound is None:
+            if abs(st.vel[2]) > 0.02 * v_in:
+                rest = None
+            elif rest is None:
+                rest = O.time
+            elif O.time - rest > 0.005:
+                rebound = rest  # at rest: the impact ends here
+                break
         rows.append(dict(model=label, t=O.time, boulder_vz=st.vel[2], impact_force=f,
                          penetration=max(0.0, top0 - bottom), kinetic=ek, nonviscDamp=O.energy["nonviscDamp"] if "nonviscDamp" in O.energy.keys() else 0.0))
         if diag and len(rows) % 10 == 0:
