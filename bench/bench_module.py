@@ -94,17 +94,22 @@ def plugin_line():
         return f"plugin: {e}"
 
 
-def escaped(grains, R0, R_lining):
-    """(grains whose centre is outside the lining's mid-surface radius, outside the mesh + 1 cm)."""
-    out_l = out_m = 0
-    for g in grains:
-        b = O.bodies[g]
-        if b is None:
+def escaped(grains, lining_nodes, mesh_nodes):
+    """(grains whose centre lies outside the lining, outside the mesh): farther from the axis than the
+    lining node (mesh node) nearest to them, + 5 mm for the mesh (a chord between nodes sags 2-3 mm).
+    The structure bulges, so a fixed radius would not do."""
+    import numpy as np
+    P = np.array([list(O.bodies[g].state.pos) for g in grains if O.bodies[g] is not None])
+    rP = np.hypot(P[:, 0], P[:, 1])
+    out = []
+    for nodes, margin in ((lining_nodes, 0.0), (mesh_nodes, 0.005)):
+        N = np.array([list(O.bodies[n].state.pos) for n in nodes if O.bodies[n] is not None])
+        if len(N) == 0:
+            out.append(0)
             continue
-        r = math.hypot(b.state.pos[0], b.state.pos[1])
-        out_l += r > R_lining
-        out_m += r > R0 + 0.01 or b.state.pos[2] < -0.05
-    return out_l, out_m
+        near = np.argmin(((P[:, None, :] - N[None, :, :])**2).sum(axis=2), axis=1)
+        out.append(int(np.sum(rP > np.hypot(N[near, 0], N[near, 1]) + margin)))
+    return tuple(out)
 
 
 def pfacet_overlap():
@@ -126,7 +131,7 @@ def touching(bid):
     return False
 
 
-def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
+def run_impact(label, bid, size, top0, grains, lining_nodes, mesh_nodes, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
                diag=None):
     """Runs the impact from the current scene, recording like scripts/damping_module.py. Returns a dict:
     rows (time series), summary numbers, energy at the end. O.saveTmp(label) at timing_at after contact."""
@@ -149,6 +154,7 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
     steps0, wall0 = O.iter, time.time()
     k = 0
     diag_max = 0.0
+    esc = (0, 0)
     v_in, rest = abs(boulder.state.vel[2]), None  # a damped boulder may stop without rebounding: end 5 ms after it is at rest
     while O.time < t_end:
         O.step()
@@ -190,6 +196,7 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
         if diag and len(rows) % 10 == 0:
             diag_max = max(diag_max, diag()[0])
         if len(rows) % 100 == 0:
+            esc = escaped(grains, lining_nodes, mesh_nodes)  # kept: after an instability the end state is NaN
             print(f"  {label}: t = {1e3 * (O.time - start):6.1f} ms, v = {st.vel[2]:+.2f} m/s, force {f / 1e3:7.1f} kN, "
                   f"{time.time() - wall0:.0f} s", flush=True)
     wall = time.time() - wall0
@@ -199,7 +206,8 @@ def run_impact(label, bid, size, top0, grains, R0, R_lining, t_max=0.3, record_e
     en = {k: O.energy[k] - (e0.get(k, 0.0) if k != "kinetic" else 0.0) for k in O.energy.keys()}  # changes since the start
     w_in = ek0 - en.get("gravWork", 0.0)  # kinetic energy at the start + work of gravity (gravWork < 0 when it works)
     after = [r for r in rows if r["t"] >= 0]
-    esc = escaped(grains, R0, R_lining)
+    if status == "ok":
+        esc = escaped(grains, lining_nodes, mesh_nodes)
     return dict(label=label, rows=rows, energy=en, total0=total0, residual=O.energy.total() - total0, w_in=w_in, ek0=ek0, status=status,
                 peak_force=max((r["impact_force"] for r in after), default=float("nan")),
                 penetration_max=max((r["penetration"] for r in after), default=float("nan")),
@@ -232,6 +240,7 @@ def shares(res, builtin):
 def time_windows(labels, reps, window, warmup):
     """Median us/step of each saved state, timed alternately (O.loadTmp, warm-up, O.step() loop)."""
     out = {lb: [] for lb in labels}
+    dts = {}
     O.timingEnabled = False
     for _ in range(reps):
         for lb in labels:
@@ -242,7 +251,28 @@ def time_windows(labels, reps, window, warmup):
             for _ in range(window):
                 O.step()
             out[lb].append(1e6 * (time.perf_counter() - t0) / window)
-    return {lb: (statistics.median(v), v, O.dt) for lb, v in out.items()}
+            dts[lb] = O.dt
+    res = {lb: (statistics.median(v), v, dts[lb]) for lb, v in out.items()}
+    return res
+
+
+def breakdown(labels, window, warmup):
+    """One more window of each saved state with O.timingEnabled: us/step per engine, and the
+    interactions (real / all, all = with the collider's potential pairs)."""
+    out = {}
+    for lb in labels:
+        O.loadTmp(lb)
+        for _ in range(warmup):
+            O.step()
+        for e in O.engines:
+            e.execTime = 0
+        O.timingEnabled = True
+        for _ in range(window):
+            O.step()
+        O.timingEnabled = False
+        out[lb] = dict(engines={(e.label or type(e).__name__): round(e.execTime * 1e-3 / window, 1) for e in O.engines},
+                       interactions_real=O.interactions.countReal(), interactions_all=len(O.interactions.all(False)), bodies=len(O.bodies))
+    return out
 
 
 def main():
@@ -258,15 +288,13 @@ def main():
     # ---- ours
     geo = bm.extract(cache)  # loads the cache on O
     ids = json.loads(O.tags["yadeflex_module"])
-    R0 = 0.5 * p.diameter
-    R_lin = R0 - p.lining_gap - 0.5 * p.lining_thickness - 0.0015
     top0 = fill_top(ids)
     bid = add_boulder(p, ids)
     O.engines = yf.engines(damping=p.damping, timestep_safety=p.timestep_safety)
     el = [e for e in O.engines if e.label == "flexElements"][0]
     print(f"ours: {len(ids['grains'])} grains, {len(ids['mesh_cylinders'])} wire legs, {len(ids['ring_top']) + len(ids['ring_bottom'])} ring "
           f"segments, {len(ids['lining'])} lining facets; damping {p.damping}", flush=True)
-    results = [run_impact("yade-flex", bid, p.boulder_size(), top0, ids["grains"], R0, R_lin, timing_at=a.timing_at,
+    results = [run_impact("yade-flex", bid, p.boulder_size(), top0, ids["grains"], ids["lining_nodes"], ids["mesh_nodes"], timing_at=a.timing_at,
                           ruptured=lambda: el.nRuptured)]
     # ---- built-in
     info = bm.build(geo)
@@ -289,7 +317,7 @@ def main():
         top_b = bm.fill_top(info)
         b = bm.add_boulder(info, p)
         label = f"built-in d={damping}"
-        results.append(run_impact(label, b, p.boulder_size(), top_b, info["grains"], R0, R_lin, timing_at=a.timing_at, dt_update=200,
+        results.append(run_impact(label, b, p.boulder_size(), top_b, info["grains"], info["lining_nodes"], info["mesh_nodes"], timing_at=a.timing_at, dt_update=200,
                                   ruptured=broken, diag=pfacet_overlap))
         results[-1]["top0"] = top_b
     results[0]["top0"] = top0
@@ -297,7 +325,12 @@ def main():
     labels = [r["label"] for r in results if r["timed_state"] and r["label"] in ("yade-flex", "built-in d=0.2")]
     tw = time_windows(labels, a.reps, a.window, a.warmup) if len(labels) == 2 else {}
     ours_us = tw.get("yade-flex", (float("nan"),))[0]
+    bd = breakdown(labels, a.window, a.warmup) if len(labels) == 2 else {}
+    for lb, d in bd.items():
+        print(f"  {lb}: {d['bodies']} bodies, {d['interactions_real']} real / {d['interactions_all']} interactions; us/step by engine: "
+              + ", ".join(f"{k} {v}" for k, v in d["engines"].items()))
     # ---- outputs
+    grains_of = {r["label"]: (ids["grains"] if r["label"] == "yade-flex" else info["grains"]) for r in results}
     rows = []
     for r in results:
         builtin = r["label"] != "yade-flex"
@@ -305,10 +338,12 @@ def main():
         us, all_us, dt = tw.get(r["label"], (float("nan"), [], r["dt"]))
         rows.append(dict(model=r["label"], damping=(0.0 if not builtin else float(r["label"].split("=")[1])), status=r["status"], dt_s=r["dt"],
                          us_per_step=us, us_per_step_all=" ".join(f"{x:.0f}" for x in all_us), speedup_per_step=(us / ours_us if builtin else 1.0),
-                         s_per_simulated_s=us * 1e-6 / dt if us == us else float("nan"), fill_top_m=r["top0"],
+                         s_per_simulated_s=us * 1e-6 / dt if us == us else float("nan"), dt_timed_s=dt, fill_top_m=r["top0"],
                          peak_force_kN=r["peak_force"] / 1e3, penetration_max_mm=1e3 * r["penetration_max"], impact_duration_ms=1e3 * r["duration"],
                          boulder_vz_end=r["rebound_speed"], energy_in_J=r["w_in"], broken_wires=r["ruptured"], grains_through_lining=r["through_lining"],
-                         grains_outside_mesh=r["outside_mesh"], pfacet_overlap_max_mm=1e3 * r["pfacet_overlap_max"],
+                         grains_outside_mesh=r["outside_mesh"], grains=len(grains_of[r["label"]]), pfacet_overlap_max_mm=1e3 * r["pfacet_overlap_max"],
+                         interactions_real=bd.get(r["label"], {}).get("interactions_real"), interactions_all=bd.get(r["label"], {}).get("interactions_all"),
+                         engines_us=json.dumps(bd.get(r["label"], {}).get("engines", {})),
                          booked_over_input=sum(v for k, v in s.items() if k != "unbooked" and math.isfinite(v)), run_steps=r["steps"], run_wall_s=r["wall_s"],
                          **{f"share_{k}": v for k, v in s.items()}, energy_end=json.dumps({k: round(v, 3) for k, v in r["energy"].items()})))
     with open(os.path.join(a.out, f"module_compare{tag}.csv"), "w", newline="") as f:
@@ -321,10 +356,10 @@ def main():
         for r in results:
             w.writerows(r["rows"])
     _plot(results, os.path.join(a.out, f"module_compare{tag}.png"), p)
-    print(f"\n{'model':16s} {'us/step':>8s} {'x ours':>7s} {'dt [s]':>9s} {'peak kN':>8s} {'pen mm':>7s} {'dur ms':>7s} {'E in J':>8s} "
+    print(f"\n{'model':16s} {'us/step':>8s} {'x ours':>7s} {'s/sim s':>7s} {'dt [s]':>9s} {'peak kN':>8s} {'pen mm':>7s} {'dur ms':>7s} {'E in J':>8s} "
           f"{'damp%':>6s} {'fric%':>6s} {'plast%':>6s} {'rupt%':>6s} {'elast%':>6s} {'kin%':>5s} {'unbook%':>7s} {'broken':>6s} {'thru':>5s} {'out':>4s}")
     for r in rows:
-        print(f"{r['model']:16s} {r['us_per_step']:8.0f} {r['speedup_per_step']:7.2f} {r['dt_s']:9.3g} {r['peak_force_kN']:8.1f} "
+        print(f"{r['model']:16s} {r['us_per_step']:8.0f} {r['speedup_per_step']:7.2f} {r['s_per_simulated_s']:7.0f} {r['dt_s']:9.3g} {r['peak_force_kN']:8.1f} "
               f"{r['penetration_max_mm']:7.0f} {r['impact_duration_ms']:7.1f} {r['energy_in_J']:8.0f} {100 * r['share_numerical_damping']:6.1f} "
               f"{100 * r['share_friction']:6.1f} {100 * r['share_plastic_wire']:6.1f} {100 * r['share_rupture']:6.1f} "
               f"{100 * r['share_elastic_booked']:6.1f} {100 * r['share_kinetic']:5.1f} {100 * r['share_unbooked']:7.1f} {r['broken_wires']!s:>6s} "
