@@ -49,7 +49,8 @@ def parse():
     ap.add_argument("--window", type=int, default=300, help="steps per timed window")
     ap.add_argument("--warmup", type=int, default=30, help="steps before each window")
     ap.add_argument("--timing-at", type=float, default=0.005, help="timed state: this long after first contact [s]")
-    ap.add_argument("--cache-dir", default=os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "bench-modules"))
+    ap.add_argument("--cache-dir", default=os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules"),
+                    help="filled-module cache (default: the main job's); a file that does not load with the installed plugin is rebuilt")
     ap.add_argument("--builtin-dt-factor", type=float, default=0.5, help="built-in O.dt = this x min sqrt(m/K)")
     ap.add_argument("--no-undamped", action="store_true", help="skip the built-in run with damping 0")
     ap.add_argument("--out", default=os.path.join(BENCH, "results"))
