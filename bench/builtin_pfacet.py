@@ -805,19 +805,11 @@ def _fmt_breakdown(b):
 
 
 def _machine_line():
-	"""'cpu model; cores; date; load average' for the results directory."""
-	model = '?'
-	try:
-		with open('/proc/cpuinfo') as f:
-			for line in f:
-				if line.startswith('model name'):
-					model = line.split(':', 1)[1].strip()
-					break
-	except OSError:
-		pass
-	return '%s; %d cores; %s UTC; load average %s; YADE %s, %d thread(s)\n' % (model, os.cpu_count() or 0, time.strftime('%Y-%m-%d %H:%M', time.gmtime()),
-	                                                                      ' '.join('%.2f' % x for x in os.getloadavg()), yade.config.version,
-	                                                                      O.numThreads)
+	"""'cpu model; cores; date; load average; YADE version, threads' for the results directory."""
+	if BENCH_DIR not in sys.path:
+		sys.path.insert(0, BENCH_DIR)
+	from machine import machine_line
+	return machine_line(yade.config.version, O.numThreads)
 
 
 def main(n_steps=300, reps=5):

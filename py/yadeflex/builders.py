@@ -31,22 +31,31 @@ def check_finite(name, p):
     return Vector3(*vals)
 
 
-def _material(material):
-    if isinstance(material, FlexMat):
-        err = material.wireError()
-        if err:
-            raise ValueError(f"material '{material.label}': {err}")
-        if material.id < 0:
-            O.materials.append(material)
-        return material
+def lookup_material(material, cls, check=None):
+    """A material of class cls given as an instance (added to O.materials if it is not there
+    yet) or as the label of one in O.materials; ValueError naming the problem otherwise.
+    check(m) may return an error text for an instance that is not usable."""
     if isinstance(material, str):
         for m in O.materials:
             if m.label == material:
-                if not isinstance(m, FlexMat):
-                    raise ValueError(f"material '{material}' is a {type(m).__name__}, not a FlexMat")
-                return _material(m)
-        raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
-    raise ValueError(f"material must be a FlexMat or the label of one, got {material!r}")
+                if not isinstance(m, cls):
+                    raise ValueError(f"material '{material}' is a {type(m).__name__}, not a {cls.__name__}")
+                material = m
+                break
+        else:
+            raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
+    if not isinstance(material, cls):
+        raise ValueError(f"material must be a {cls.__name__} or the label of one, got {material!r}")
+    err = check(material) if check else ""
+    if err:
+        raise ValueError(f"material '{material.label}': {err}")
+    if material.id < 0:
+        O.materials.append(material)
+    return material
+
+
+def _material(material):
+    return lookup_material(material, FlexMat, check=lambda m: m.wireError())
 
 
 def fix(ids, dofs="xyzXYZ"):

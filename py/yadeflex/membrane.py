@@ -13,7 +13,7 @@ from yade import O
 from yade.wrapper import Body, FlexNode, FlexFacet, FlexMembraneMat
 from yade.minieigenHP import Vector3
 
-from .builders import _positive, check_finite, fix
+from .builders import _positive, check_finite, fix, lookup_material
 
 
 def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, strength=math.inf,
@@ -53,18 +53,7 @@ def geotextile(label="geotextile", **kw):
 
 
 def _membrane_material(material):
-    if isinstance(material, FlexMembraneMat):
-        if material.id < 0:
-            O.materials.append(material)
-        return material
-    if isinstance(material, str):
-        for m in O.materials:
-            if m.label == material:
-                if not isinstance(m, FlexMembraneMat):
-                    raise ValueError(f"material '{material}' is a {type(m).__name__}, not a FlexMembraneMat")
-                return m
-        raise ValueError(f"unknown material '{material}' (labels in O.materials: {[m.label for m in O.materials]})")
-    raise ValueError(f"material must be a FlexMembraneMat or the label of one, got {material!r}")
+    return lookup_material(material, FlexMembraneMat)
 
 
 def _node(pos, radius, mat):
