@@ -228,19 +228,48 @@ Real FlexTimeStepper::omega2Bonds() const
 }
 
 namespace {
-	// contact radius and FrictMat of a body for a potential contact (no geometry yet), or false
-	bool contactSide(const Body& b, Real& radius, const FrictMat*& mat)
+	// What the time step needs of one body, gathered once per estimate (dynamic_casts and
+	// shared_ptr hops once per body instead of once per interaction side).
+	struct StepBody {
+		Real            invSqrtMass = 0; // 1/sqrt(m); 0: no row of its own, infinite mass to others
+		Real            Imin        = 0; // smallest principal inertia of a dynamic body, else 0
+		Real            radius      = -1; // contact radius (sphere, cylinder, facet), -1: Ip2 takes the other side's
+		Real            kappa       = 0; // facet: triangle load factor - 1 (see triangleLoadFactor)
+		const FrictMat* mat         = nullptr;
+		flexa::Element  el;
+	};
+
+	std::vector<StepBody> stepBodies(const Scene* scene)
 	{
-		mat = dynamic_cast<const FrictMat*>(b.material.get());
-		if (!mat || !b.shape) return false;
-		if (const Sphere* s = dynamic_cast<const Sphere*>(b.shape.get())) radius = s->radius;
-		else if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(b.shape.get()))
-			radius = c->radius;
-		else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(b.shape.get()))
-			radius = f->radius;
-		else
-			radius = -1; // facet, box, wall: Ip2 takes the other side's radius
-		return true;
+		const auto&           bodies = *scene->bodies;
+		std::vector<StepBody> out(bodies.size());
+		for (size_t id = 0; id < bodies.size(); ++id) {
+			const shared_ptr<Body>& b = bodies[id];
+			if (!b) continue;
+			StepBody& s = out[id];
+			if (b->isDynamic()) {
+				const State& st = *b->state;
+				if (st.mass > 0 && st.blockedDOFs != State::DOF_ALL) s.invSqrtMass = 1 / std::sqrt(st.mass);
+				s.Imin = st.inertia.minCoeff();
+			}
+			s.mat = dynamic_cast<const FrictMat*>(b->material.get());
+			if (!b->shape) continue;
+			if (const Sphere* sp = dynamic_cast<const Sphere*>(b->shape.get())) s.radius = sp->radius;
+			else {
+				s.el = flexa::elementOf(b->shape.get());
+				if (s.el.nNodes) s.radius = s.el.radius;
+				if (s.el.fac) {
+					Vector3r x[3];
+					bool     ok = true;
+					for (int a = 0; a < 3 && ok; ++a) {
+						const State* st = flexa::stateOf(scene, s.el.nodes[a]);
+						if ((ok = st != nullptr)) x[a] = st->pos;
+					}
+					s.kappa = ok ? flex::triangleLoadFactor(x, s.el.radius) - 1 : 0;
+				}
+			}
+		}
+		return out;
 	}
 }
 
@@ -255,20 +284,13 @@ Real FlexTimeStepper::omega2Contacts() const
 	// the contact's position on an element (u = 0 or 1): a contact appearing between two
 	// updates must not find a step that is already too long for it (it would run unstable from
 	// its first step: measured in the wire-and-ring demo).
-	auto&             bodies = *scene->bodies;
-	std::vector<Real> row(bodies.size(), 0), rowRot(bodies.size(), 0);
-	auto invSqrtMass = [&](Body::id_t id) -> Real {
-		if (id < 0 || id >= (Body::id_t)bodies.size()) return 0;
-		const shared_ptr<Body>& b = bodies[id];
-		// a body with every DOF blocked does not move: no row of its own, infinite mass to others
-		if (!b || !b->isDynamic() || !(b->state->mass > 0) || b->state->blockedDOFs == State::DOF_ALL) return 0;
-		return 1 / std::sqrt(b->state->mass);
-	};
-	auto addRot = [&](Body::id_t id, Real ks, Real w, Real lever) {
-		const shared_ptr<Body>& b = bodies[id];
-		if (!b || !b->isDynamic()) return;
-		const Real Imin = b->state->inertia.minCoeff();
-		if (Imin > 0 && std::isfinite(lever)) rowRot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
+	const std::vector<StepBody> sb = stepBodies(scene);
+	const Body::id_t            nb = (Body::id_t)sb.size();
+	std::vector<Real>           row(sb.size(), 0), rowRot(sb.size(), 0);
+	auto invSqrtMass = [&](Body::id_t id) -> Real { return (id < 0 || id >= nb) ? 0 : sb[id].invSqrtMass; };
+	auto addRot      = [&](Body::id_t id, Real ks, Real w, Real lever) {
+                const Real Imin = sb[id].Imin;
+                if (Imin > 0 && std::isfinite(lever)) rowRot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
 	};
 	// the contact law, for rolling resistance between spheres (a rotational spring kr)
 	const Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
@@ -339,41 +361,33 @@ Real FlexTimeStepper::omega2Contacts() const
 		}
 		// potential contact
 		if (!I->functorCache.geomExists) continue; // bonded neighbours: never a contact
-		const shared_ptr<Body>&b1 = bodies[I->getId1()], &b2 = bodies[I->getId2()];
-		if (!b1 || !b2) continue;
-		Real           r1, r2;
-		const FrictMat *m1, *m2;
-		if (!contactSide(*b1, r1, m1) || !contactSide(*b2, r2, m2)) continue;
+		const Body::id_t i1 = I->getId1(), i2 = I->getId2();
+		if (i1 < 0 || i2 < 0 || i1 >= nb || i2 >= nb || !(*scene->bodies)[i1] || !(*scene->bodies)[i2]) continue;
+		const StepBody* bs[2] = { &sb[i1], &sb[i2] };
+		if (!bs[0]->mat || !bs[1]->mat || !(*scene->bodies)[i1]->shape || !(*scene->bodies)[i2]->shape) continue;
+		Real r1 = bs[0]->radius, r2 = bs[1]->radius;
 		if (r1 <= 0) r1 = r2;
 		if (r2 <= 0) r2 = r1;
 		if (!(r1 > 0)) continue;
-		const Real k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
-		const Real s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
-		const Real k  = std::max(kn, ks);
+		const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
+		const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
+		const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
+		const Real      k  = std::max(kn, ks);
 		// each side: its DOF bodies (an element's nodes, else the body itself) and the excess
 		// kappa of a node's share over its weight (facets: load factor - 1; else 0)
-		Body::id_t  ids[2][3];
-		int         nid[2];
-		Real        smax[2], kappa[2];
-		const Body* bs[2] = { b1.get(), b2.get() };
+		Body::id_t       ids[2][3];
+		int              nid[2];
+		Real             smax[2], kappa[2];
+		const Body::id_t self[2] = { i1, i2 };
 		for (int s = 0; s < 2; ++s) {
-			const flexa::Element el = flexa::elementOf(bs[s]->shape.get());
-			kappa[s]                = 0;
+			const flexa::Element& el = bs[s]->el;
+			kappa[s]                 = el.fac ? bs[s]->kappa : 0;
 			if (el.nNodes) {
 				nid[s] = el.nNodes;
 				for (int a = 0; a < el.nNodes; ++a)
 					ids[s][a] = el.nodes[a];
-				if (el.fac) {
-					Vector3r x[3];
-					bool     ok = true;
-					for (int a = 0; a < 3 && ok; ++a) {
-						const State* st = flexa::stateOf(scene, el.nodes[a]);
-						if ((ok = st != nullptr)) x[a] = st->pos;
-					}
-					kappa[s] = ok ? flex::triangleLoadFactor(x, el.radius) - 1 : 0;
-				}
 			} else {
-				ids[s][0] = bs[s]->id;
+				ids[s][0] = self[s];
 				nid[s]    = 1;
 			}
 			smax[s] = 0;
@@ -388,7 +402,7 @@ Real FlexTimeStepper::omega2Contacts() const
 				const Real own   = (1 + kappa[s]) * ia + (nid[s] - 1) * kappa[s] * smax[s];
 				const Real other = smax[1 - s] * (1 + nid[1 - s] * kappa[1 - s]);
 				row[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
-				if (!flexa::elementOf(bs[s]->shape.get()).fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
+				if (!bs[s]->el.fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
 	Real w2 = 0;

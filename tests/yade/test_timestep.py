@@ -65,3 +65,61 @@ def test_local_damping_shortens_the_step_and_keeps_a_fine_cantilever_stable(scen
     assert max(O.bodies[i].state.angVel.norm() for i in s["nodes"]) < 1.0
     I = math.pi * 0.01 ** 4 / 4
     assert_rel(-O.bodies[s["tip"]].state.pos[2], 1.0 / (3 * 200e9 * I), 1e-3, "20-element cantilever")
+
+
+def _gershgorin_spheres():
+    """The contact bound of FlexTimeStepper.omega2Contacts for a scene of spheres, written out
+    independently: each contact (real: its kn, ks; potential: the stiffness Ip2_FrictMat gives,
+    kn = 2 k1 k2 / (k1 + k2) with k = E r, ks likewise with E nu r) adds k m_a^-1/2 (m_a^-1/2 +
+    m_b^-1/2) to the translational row of a and 2 ks l^2 / I_a to its rotational row."""
+    row, rot = {}, {}
+
+    def inv_sqrt_mass(b):
+        return 0.0 if (not b.dynamic or b.state.mass <= 0) else 1 / math.sqrt(b.state.mass)
+
+    for i in O.interactions.all(False):
+        b = [O.bodies[i.id1], O.bodies[i.id2]]
+        if i.isReal:
+            if not i.geom.active:
+                continue
+            k, ks, lever = max(i.phys.kn, i.phys.ks), i.phys.ks, [i.geom.refR1, i.geom.refR2]
+        else:
+            kk = [x.material.young * x.shape.radius for x in b]
+            ss = [x.material.young * x.material.poisson * x.shape.radius for x in b]
+            kn, ks = 2 * kk[0] * kk[1] / (kk[0] + kk[1]), 2 * ss[0] * ss[1] / (ss[0] + ss[1])
+            k, lever = max(kn, ks), [x.shape.radius for x in b]
+        w = [inv_sqrt_mass(x) for x in b]
+        for s in (0, 1):
+            if w[s] == 0:
+                continue
+            row[b[s].id] = row.get(b[s].id, 0.0) + k * w[s] * (w[0] + w[1])
+            rot[b[s].id] = rot.get(b[s].id, 0.0) + 2 * ks * lever[s] ** 2 / min(b[s].state.inertia)
+    return max(list(row.values()) + list(rot.values()), default=0.0)
+
+
+def test_contact_bound_of_a_granular_pack_matches_an_independent_sum(scene):
+    """A loose pack of spheres of two sizes and two materials, falling onto a fixed sphere
+    layer: real and potential (bounds overlap only) contacts. The C++ bound (which gathers
+    body data in a table once per estimate) equals the independent sum to round-off."""
+    import random
+    rng = random.Random(3)
+    for ix in range(7):
+        for iy in range(7):
+            O.bodies[sphere((0.035 * ix, 0.035 * iy, 0.0), 0.025, young=1e9)].dynamic = False  # fixed floor
+    for k in range(64):  # 4 layers of 4 x 4, no initial overlap, jittered
+        r = rng.choice([0.01, 0.016])
+        x, y, z = 0.025 + 0.05 * (k % 4), 0.025 + 0.05 * (k // 4 % 4), 0.06 + 0.04 * (k // 16)
+        sphere((x + rng.uniform(-0.005, 0.005), y + rng.uniform(-0.005, 0.005), z), r,
+               young=rng.choice([1e8, 3e8]), density=rng.choice([2000.0, 2650.0]))
+    O.engines = yf.engines(verlet=0.004)
+    n_real = n_potential = 0
+    for _ in range(40):
+        scenes.advance(400)
+        n_real = max(n_real, sum(1 for i in O.interactions.all(False) if i.isReal))
+        n_potential = max(n_potential, sum(1 for i in O.interactions.all(False) if not i.isReal))
+        ref, got = _gershgorin_spheres(), O.engines[-2].omega2Contacts()
+        if ref == 0:  # no contact with a moving sphere yet
+            assert got == 0
+        else:
+            assert_rel(got, ref, 1e-12, "sphere contact bound")
+    assert n_real > 20 and n_potential > 20, (n_real, n_potential)
