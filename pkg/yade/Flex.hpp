@@ -280,7 +280,7 @@ public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
-		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator; scenes with periodic cells, clumps, aspherical bodies, masks or density scaling use NewtonIntegrator's own loop.",
+		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator, clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
 		((int, parallelMin, 4000, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))
 	);

@@ -453,7 +453,10 @@ void FlexNewtonIntegrator::refresh()
 	facets.clear();
 	for (const auto& b : *scene->bodies) {
 		if (!b) continue;
-		if (b->isClump() || b->isClumpMember() || (exactAsphericalRot && b->isAspherical())) simple = false;
+		if (b->isClumpMember()) continue; // moved by its clump
+		// aspherical bodies take NewtonIntegrator's aspherical integrator (and its kinetic energy);
+		// a clump with isotropic inertia, not flagged aspherical, integrates like a sphere
+		if (b->isAspherical()) simple = false;
 		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) elements.push_back(b->id);
 		else if (b->shape && dynamic_cast<const FlexFacet*>(b->shape.get()))
 			facets.push_back(b->id);
@@ -493,6 +496,20 @@ void FlexNewtonIntegrator::flagElements()
 	maxVelocitySq = std::max(maxVelocitySq, flag);
 }
 
+namespace {
+	// The collider trigger of NewtonIntegrator::saveMaximaDisplacement (2: a body left the sweep
+	// of its bound, 0.5: inside), into a per-thread maximum; Clump::moveMembers calls it for members.
+	struct MemberSweep {
+		Real& mx;
+		void  saveMaximaDisplacement(const shared_ptr<Body>& b)
+		{
+			if (!b->bound) return;
+			const Real d = (b->state->pos - b->bound->refPos).cwiseAbs().maxCoeff();
+			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+		}
+	};
+}
+
 void FlexNewtonIntegrator::action()
 {
 	if (scene->bodies->size() != cachedBodyCount) refresh();
@@ -520,9 +537,25 @@ void FlexNewtonIntegrator::action()
 		const Body::id_t        id = movers[k];
 		const shared_ptr<Body>& b  = bodies[id];
 		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
-		State*         st = b->state.get();
-		const Vector3r f  = scene->forces.getForce(id);
-		const Vector3r m  = scene->forces.getTorque(id);
+		State* st = b->state.get();
+#ifdef YADE_OPENMP
+		Real& mx = thrMax[omp_get_thread_num()];
+#else
+		Real& mx = thrMax[0];
+#endif
+		if (b->isClump()) { // the members' forces and moments about the clump's centre, added as NewtonIntegrator does
+			Vector3r F = Vector3r::Zero(), T = Vector3r::Zero();
+			static_cast<Clump*>(b->shape.get())->addForceTorqueFromMembers(st, scene, F, T);
+#ifdef YADE_OPENMP
+			scene->forces.addTorqueUnsynced(id, T);
+			scene->forces.addForceUnsynced(id, F);
+#else
+			scene->forces.addTorque(id, T);
+			scene->forces.addForce(id, F);
+#endif
+		}
+		const Vector3r f = scene->forces.getForce(id);
+		const Vector3r m = scene->forces.getTorque(id);
 		if (track) {
 			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
 			// included), kinetic energy before the update, work of gravity -m g.v dt
@@ -571,15 +604,9 @@ void FlexNewtonIntegrator::action()
 			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
 		}
 		st->ori.normalize();
-		if (b->bound) { // collider trigger, as NewtonIntegrator
-			const Real d = (st->pos - b->bound->refPos).cwiseAbs().maxCoeff();
-#ifdef YADE_OPENMP
-			Real& mx = thrMax[omp_get_thread_num()];
-#else
-			Real& mx = thrMax[0];
-#endif
-			mx = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
-		}
+		MemberSweep sweep { mx };
+		sweep.saveMaximaDisplacement(b); // collider trigger, as NewtonIntegrator
+		if (b->isClump()) Clump::moveMembers(b, scene, &sweep);
 	}
 	maxVelocitySq = 0;
 	for (Real v : thrMax)

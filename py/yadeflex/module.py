@@ -355,5 +355,6 @@ def add_boulder(params, ids, gap=0.005):
     cl = O.bodies[cid]
     cl.state.mass = params.boulder_mass
     cl.state.inertia = Vector3(1, 1, 1) * params.boulder_mass * s * s / 6
+    cl.aspherical = False  # isotropic inertia (a solid cube): the spherical rotation update is exact
     cl.state.vel = Vector3(0, 0, -v0)
     return cid
