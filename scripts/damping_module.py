@@ -87,6 +87,18 @@ def unstable_body():
     return None
 
 
+def part_name(bid, ids):
+    """'grain #12', 'wire leg #300', ...: which part of the module a body is."""
+    for key, name in (("grains", "grain"), ("mesh_cylinders", "wire leg"), ("lining", "lining facet"), ("mesh_nodes", "mesh node"),
+                      ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope")):
+        if bid in ids.get(key, ()):
+            return f"{name} #{bid}"
+    b = O.bodies[bid]
+    if b is not None and b.isClumpMember:
+        return f"boulder (clump member #{bid})"
+    return f"{type(b.shape).__name__ if b is not None else 'erased body'} #{bid}"
+
+
 def main():
     a, p = parse()
     try:
@@ -198,13 +210,15 @@ def main():
                              bulge_mean=(sum(radial) / len(radial) if radial else 0.0), ring_top_force=ring_f["top"],
                              ring_bottom_force=ring_f["bottom"], rope_force=ring_f["rope"], broken_wires=el.nRuptured, dt=O.dt))
             # penalty contacts are valid while overlaps are small against the contact reach R1 + R2
-            worst = max((i.geom.penetrationDepth / (i.geom.refR1 + i.geom.refR2) for i in O.interactions
-                         if i.isReal and hasattr(i.geom, "refR1") and i.geom.refR1 + i.geom.refR2 > 0), default=0.0)
+            worst, worst_i = max(((i.geom.penetrationDepth / (i.geom.refR1 + i.geom.refR2), i) for i in O.interactions
+                                  if i.isReal and hasattr(i.geom, "refR1") and i.geom.refR1 + i.geom.refR2 > 0),
+                                 key=lambda x: x[0], default=(0.0, None))
             max_overlap_ratio = max(max_overlap_ratio, worst)
             if worst > 0.5 and not warned:
                 warned = True
-                print(f"  WARNING t = {1e3 * (O.time - start):.2f} ms: a contact overlaps {100 * worst:.0f}% of its reach (sum of radii); "
-                      "contact forces are no longer reliable (stiffer contacts: --fill-young, or a gentler impact)", flush=True)
+                print(f"  WARNING t = {1e3 * (O.time - start):.2f} ms: a contact overlaps {100 * worst:.0f}% of its reach (sum of radii), "
+                      f"{part_name(worst_i.id1, ids)} - {part_name(worst_i.id2, ids)}; contact forces are no longer reliable "
+                      "(stiffer contacts: --fill-young, --steel-contact-young, or a gentler impact)", flush=True)
             e = {k: O.energy[k] for k in O.energy.keys()}
             e["t"] = O.time - start
             e["residual"] = O.energy.total() - total0
