@@ -101,3 +101,41 @@ Vec3 contactNormal(const Vec3& from, const Vec3& to, const Vec3& axis1, const Ve
 }
 
 } // namespace flex
+
+namespace flex {
+
+double searchReach(const Vec3* p, int n, double reach)
+{
+	// reach plus a margin far above the round-off of the exact distance computations (whose
+	// absolute error scales with the coordinates): a separation found here is never one the
+	// exact test would have called a touch
+	double scale = reach;
+	for (int k = 0; k < n; ++k)
+		scale = std::max(scale, p[k].cwiseAbs().maxCoeff());
+	return reach + 1e-9 * scale;
+}
+
+bool boxesApart(const Vec3* p, int n1, int n2, double r)
+{
+	for (int ax = 0; ax < 3; ++ax) {
+		double lo1 = p[0][ax], hi1 = lo1, lo2 = p[n1][ax], hi2 = lo2;
+		for (int k = 1; k < n1; ++k) {
+			lo1 = std::min(lo1, p[k][ax]);
+			hi1 = std::max(hi1, p[k][ax]);
+		}
+		for (int k = n1 + 1; k < n1 + n2; ++k) {
+			lo2 = std::min(lo2, p[k][ax]);
+			hi2 = std::max(hi2, p[k][ax]);
+		}
+		if (lo2 > hi1 + r || lo1 > hi2 + r) return true;
+	}
+	return false;
+}
+
+bool segmentsApart(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, double reach)
+{
+	const Vec3 p[4] = { a0, a1, b0, b1 };
+	return boxesApart(p, 2, 2, searchReach(p, 4, reach));
+}
+
+} // namespace flex

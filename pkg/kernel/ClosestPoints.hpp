@@ -29,6 +29,16 @@ struct SegmentSegment {
 /// along the other. Without overlap the nearest end points are returned.
 SegmentSegment closestPointsSegments(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
 
+/// A cheap, conservative separation test for contact search: true only if every point of
+/// segment a0-a1 is farther than `reach` from every point of segment b0-b1 (the segments'
+/// boxes, grown by reach plus a relative margin of 1e-9 that dwarfs round-off, are disjoint
+/// along an axis). False says nothing: compute the closest points.
+bool segmentsApart(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, double reach);
+/// reach grown by the margin the separation tests use, for the points p[0..n)
+double searchReach(const Vec3* p, int n, double reach);
+/// whether the boxes of p[0..n1) and p[n1..n1+n2) are more than r apart along some axis
+bool boxesApart(const Vec3* p, int n1, int n2, double r);
+
 /// Point of segment [a, b] at u, exact at the end points.
 inline Vec3 pointAt(const Vec3& a, const Vec3& b, double u)
 {

@@ -228,3 +228,24 @@ double triangleLoadFactor(const Vec3 x[3], double r)
 }
 
 } // namespace flex
+
+namespace flex {
+
+bool segmentTriangleApart(const Vec3& a, const Vec3& b, const Vec3& x1, const Vec3& x2, const Vec3& x3, double reach)
+{
+	const Vec3   p[5] = { a, b, x1, x2, x3 };
+	const double r    = searchReach(p, 5, reach);
+	if (boxesApart(p, 2, 3, r)) return true;
+	// both ends beyond r on one side of the plane: every point of the segment is farther than
+	// r from the plane, hence from the triangle. n unnormalised: compare h with r |n|. Only for
+	// a triangle far from degenerate (angle > 1e-6 rad), where n's direction is accurate to
+	// ~1e-10, and with a margin that covers that error over the lever arms involved.
+	const Vec3   e1 = x2 - x1, e2 = x3 - x1, n = e1.cross(e2);
+	const double nn = n.norm(), l1 = e1.norm(), l2 = e2.norm();
+	if (!(nn > 1e-6 * l1 * l2)) return false;
+	const double rn = (r + 1e-9 * (l1 + l2 + (a - x1).norm() + (b - x1).norm())) * nn;
+	const double ha = n.dot(a - x1), hb = n.dot(b - x1);
+	return (ha > rn && hb > rn) || (ha < -rn && hb < -rn);
+}
+
+} // namespace flex

@@ -53,6 +53,11 @@ struct SegmentTriangle {
 /// returned (the contact point moves continuously as the segment slides).
 SegmentTriangle closestPointsSegmentTriangle(const Vec3& a, const Vec3& b, const Vec3& x1, const Vec3& x2, const Vec3& x3);
 
+/// Conservative separation test (see segmentsApart): true only if the segment a-b is farther
+/// than `reach` from the triangle, because the boxes are disjoint or both ends lie beyond
+/// reach on one side of the triangle's plane. False says nothing.
+bool segmentTriangleApart(const Vec3& a, const Vec3& b, const Vec3& x1, const Vec3& x2, const Vec3& x3, double reach);
+
 /// Velocity of the material point c attached to the facet (see above); w: barycentric
 /// weights of the midplane point q; d = c - q.
 Vec3 trianglePointVelocity(const Vec3 x[3], const Vec3 v[3], const double w[3], const Vec3& d);

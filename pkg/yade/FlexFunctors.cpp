@@ -95,7 +95,9 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 		static_cast<FlexContactGeom&>(*I->geom).active = false;
 		return true;
 	}
-	const Vector3r             xb0 = b0->pos + shift2, xb1 = b1->pos + shift2;
+	const Vector3r xb0 = b0->pos + shift2, xb1 = b1->pos + shift2;
+	// potential pair: a cheap conservative box test first (most pairs of a mesh are apart)
+	if (isNew && !force && flex::segmentsApart(a0->pos, a1->pos, xb0, xb1, c1.radius + c2.radius)) return false;
 	const flex::SegmentSegment ss      = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
 	const Real                 overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
 	if (isNew && overlap <= 0 && !force) return false;
@@ -227,6 +229,8 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 		static_cast<FlexContactGeom&>(*I->geom).active = false;
 		return true;
 	}
+	// potential pair: cheap conservative box and plane tests first (a mesh wire outside a lining)
+	if (isNew && !force && flex::segmentTriangleApart(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2], c.radius + fa.radius)) return false;
 	const flex::SegmentTriangle st      = flex::closestPointsSegmentTriangle(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2]);
 	const Real                  overlap = c.radius + fa.radius - (st.p1 - st.t.point).norm();
 	if (isNew && overlap <= 0 && !force) return false;
