@@ -100,24 +100,34 @@ namespace flexa {
 		int                 nNodes = 0;
 		Real                radius = 0;
 	};
+	// from the static type: no dynamic_cast (the contact functors know their shapes' types)
+	inline Element elementOf(const FlexCylinder* c)
+	{
+		Element e;
+		e.cyl      = c;
+		e.nodes[0] = c->node1;
+		e.nodes[1] = c->node2;
+		e.nNodes   = 2;
+		e.radius   = c->radius;
+		return e;
+	}
+	inline Element elementOf(const FlexFacet* f)
+	{
+		Element e;
+		e.fac      = f;
+		e.nodes[0] = f->node1;
+		e.nodes[1] = f->node2;
+		e.nodes[2] = f->node3;
+		e.nNodes   = 3;
+		e.radius   = f->radius;
+		return e;
+	}
 	inline Element elementOf(const Shape* sh)
 	{
 		Element e;
 		if (!sh) return e;
-		if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) {
-			e.cyl      = c;
-			e.nodes[0] = c->node1;
-			e.nodes[1] = c->node2;
-			e.nNodes   = 2;
-			e.radius   = c->radius;
-		} else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) {
-			e.fac      = f;
-			e.nodes[0] = f->node1;
-			e.nodes[1] = f->node2;
-			e.nodes[2] = f->node3;
-			e.nNodes   = 3;
-			e.radius   = f->radius;
-		}
+		if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) return elementOf(c);
+		if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) return elementOf(f);
 		return e;
 	}
 	inline Element elementOf(const Scene* scene, Body::id_t id)
