@@ -6,7 +6,7 @@
 # Builds (or loads from the cache) the filled module, adds the boulder, runs the impact and
 # writes into --out: params.json, timeseries.csv, energy.csv, summary.json, plots (*.png)
 # and, unless --no-vtk, a VTK time series (vtk/flex.pvd) for ParaView.
-# Exit status: 0 done; 2 a NaN or unstable state (the message names the body); 3 the energy
+# Exit status: 0 done; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the energy
 # balance residual exceeded --max-residual; 1 bad parameters or another error.
 import argparse
 import csv
@@ -37,6 +37,7 @@ def parse():
     ap.add_argument("--record-every", type=float, default=2e-4, help="time-series interval [s]")
     ap.add_argument("--vtk-every", type=float, default=5e-3, help="VTK frame interval [s]")
     ap.add_argument("--no-vtk", action="store_true")
+    ap.add_argument("--min-dt-fraction", type=float, default=0.01, help="stop if the stable time step falls below this fraction of its value at impact")
     ap.add_argument("--max-residual", type=float, default=0.02, help="largest accepted energy-balance residual, fraction of the impact energy")
     for f in dataclasses.fields(ModuleParams):
         name = "--" + f.name.replace("_", "-")
@@ -51,6 +52,8 @@ def parse():
         else:
             ap.add_argument(name, type=float, default=None, help=f"[{f.default}]")
     a = ap.parse_args(sys.argv[me + 1:])
+    if not 0 <= a.min_dt_fraction < 1:
+        ap.error(f"--min-dt-fraction must be in [0, 1), got {a.min_dt_fraction}")
     p = ModuleParams()
     if a.small:
         p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
@@ -89,8 +92,11 @@ def unstable_body():
 
 def part_name(bid, ids):
     """'grain #12', 'wire leg #300', ...: which part of the module a body is."""
+    if bid is None or bid < 0 or bid >= len(O.bodies):
+        return "no body"
     for key, name in (("grains", "grain"), ("mesh_cylinders", "wire leg"), ("lining", "lining facet"), ("mesh_nodes", "mesh node"),
-                      ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope")):
+                      ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope"),
+                      ("lining_nodes", "lining node"), ("rope_nodes", "rope node")):
         if bid in ids.get(key, ()):
             return f"{name} #{bid}"
     b = O.bodies[bid]
@@ -174,8 +180,16 @@ def main():
         if abs(dv - G * O.dt) > 1e-6 * G * O.dt:  # a force other than gravity acted this step
             h = h0 + (z_start - z_before)
             free_fall = dict(v_measured=v_before, v_expected=math.sqrt(2 * G * h), fall_height=h, t=O.time - start)
+    dt0 = O.dt
+    ts = next(e for e in O.engines if e.label == "flexDt")
     while O.time < t_end:
         O.step()
+        if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * dt0:
+            print(f"damping_module: the stable time step collapsed from {dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - start):.2f} ms; "
+                  f"it is set by {part_name(ts.stiffestBody, ids)} (a crushed lining facet or a light node under a stiff contact); "
+                  "stopping (--min-dt-fraction)", file=sys.stderr)
+            status = 2
+            break
         if O.time >= next_rec:
             next_rec += a.record_every
             st = boulder.state

@@ -246,6 +246,8 @@ REGISTER_SERIALIZABLE(FlexElementEngine);
 class FlexTimeStepper : public GlobalEngine {
 	size_t lastInteractionCount = 0;
 	long   lastColliderRuns     = -1;
+	// where the last bounds came from (const estimates record them)
+	mutable Body::id_t stiffestBondBody = -1, stiffestContactBody = -1, stiffestCache = -1;
 
 public:
 	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
@@ -258,7 +260,8 @@ public:
 		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
 		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
 		((int, interval, 50, , "Recompute every this many steps [-]"))
-		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]")),
+		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]"))
+		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]")),
 		,
 		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")
 		.def("omega2Bonds", &FlexTimeStepper::omega2Bonds, "Bound of the largest omega^2 from bonds [1/s^2]")

@@ -190,21 +190,23 @@ Real FlexTimeStepper::omega2Bonds() const
 	struct Share {
 		const flexa::Element e;
 		Real                 m, I, w2;
+		Body::id_t           id;
 	};
 	std::vector<Share> shares;
 	for (const auto& b : bodies) {
 		if (!b || !b->shape) continue;
 		const flexa::Element e = flexa::elementOf(b->shape.get());
-		if (e.cyl && e.cyl->attached) shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2 });
+		if (e.cyl && e.cyl->attached) shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, b->id });
 		else if (e.fac && e.fac->attached)
-			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 });
+			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2, b->id });
 	}
 	for (const Share& sh : shares)
 		for (int k = 0; k < sh.e.nNodes; ++k) {
 			sumM[sh.e.nodes[k]] += sh.m;
 			sumI[sh.e.nodes[k]] += sh.I;
 		}
-	Real w2 = 0;
+	Real w2          = 0;
+	stiffestBondBody = -1;
 	for (const Share& sh : shares) {
 		bool moves = false; // an element whose nodes are all clamped has no mode of its own
 		for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
@@ -222,7 +224,10 @@ Real FlexTimeStepper::omega2Bonds() const
 			const Real I = s.inertia.minCoeff();
 			if (I > 0) scale = std::max(scale, sumI[nid] / I);
 		}
-		w2 = std::max(w2, sh.w2 * scale);
+		if (sh.w2 * scale > w2) {
+			w2                = sh.w2 * scale;
+			stiffestBondBody = sh.id;
+		}
 	}
 	return w2;
 }
@@ -405,9 +410,13 @@ Real FlexTimeStepper::omega2Contacts() const
 				if (!bs[s]->el.fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
-	Real w2 = 0;
+	Real w2             = 0;
+	stiffestContactBody = -1;
 	for (size_t i = 0; i < row.size(); ++i)
-		w2 = std::max(w2, std::max(row[i], rowRot[i]));
+		if (std::max(row[i], rowRot[i]) > w2) {
+			w2                   = std::max(row[i], rowRot[i]);
+			stiffestContactBody = (Body::id_t)i;
+		}
 	return w2;
 }
 
@@ -421,7 +430,9 @@ Real FlexTimeStepper::critical() const
 	Real c = 0;
 	for (const auto& e : scene->engines)
 		if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) c = std::max(c, std::abs(nw->damping));
-	return flex::criticalTimeStep((1 + c) * (omega2Bonds() + omega2Contacts()));
+	const Real wb = omega2Bonds(), wc = omega2Contacts();
+	stiffestCache = wc >= wb ? stiffestContactBody : stiffestBondBody;
+	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
 
 void FlexTimeStepper::action()
@@ -442,6 +453,7 @@ void FlexTimeStepper::action()
 	lastColliderRuns     = colliderRuns;
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
 	dtCritical           = critical();
+	stiffestBody         = stiffestCache;
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;
 }
 

@@ -26,6 +26,7 @@ import json
 import math
 import os
 import random
+import sys
 
 from yade import O
 from yade.minieigenHP import Vector3, Quaternion
@@ -157,7 +158,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 7
+        d["_version"] = 8  # 8: saved without engines
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -302,19 +303,31 @@ def build_filled(params, progress=None):
 
 
 def filled_module(params, cache_dir=None, progress=None):
-    """The settled module on O: loaded from the cache when it holds this key, else built and
-    saved there. Returns (ids, cache_file, from_cache)."""
+    """The settled module on O: loaded from the cache when it holds this key (with
+    params.engines(params.damping) set), else built and saved there. A cache file this build
+    cannot read (classes changed since it was saved) is filled again. Returns (ids,
+    cache_file, from_cache)."""
     params.validate()
     cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
     os.makedirs(cache_dir, exist_ok=True)
     f = os.path.join(cache_dir, f"module-{params.fill_key()}.yade.gz")
     if os.path.exists(f):
-        O.load(f)
-        return json.loads(O.tags["yadeflex_module"]), f, True
-    ids = build_filled(params, progress=progress)
+        try:
+            O.load(f)
+            O.engines = params.engines(params.damping)
+            return json.loads(O.tags["yadeflex_module"]), f, True
+        except RuntimeError as e:  # saved by a build whose classes have other attributes
+            print(f"yadeflex: the cached module {f} cannot be read by this build ({e}); filling it again", file=sys.stderr)
+            O.reset()
+    build_filled(params, progress=progress)
+    # without engines: an engine's attributes change more often than the bodies', and a
+    # cache must stay readable (the impact sets its own engines anyway)
+    engines_ = O.engines
+    O.engines = []
     O.save(f + ".tmp.yade.gz")
+    O.engines = engines_
     os.replace(f + ".tmp.yade.gz", f)
-    return ids, f, False
+    return json.loads(O.tags["yadeflex_module"]), f, False  # as a load returns it (lists, not tuples)
 
 
 def fill_top(ids):

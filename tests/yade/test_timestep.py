@@ -33,6 +33,19 @@ def test_contact_stiffness_lowers_the_step(scene):
     O.step()
     assert yf.contacts_on(s)
     assert yf.critical_timestep() < 0.5 * dt_bonds
+    # the stepper names what sets the step: a node under the stiff contact (the light side)
+    assert O.engines[-2].stiffestBody in set(nodes[1:-1])
+
+
+def test_the_stepper_names_the_stiffest_element(scene):
+    mat = yf.steel()
+    nodes, cyls = yf.chain([(0, 0, 0), (0.3, 0, 0)], 0.003, mat, segments=3, fixed=[0])
+    O.bodies[nodes[2]].state.mass *= 0.01  # the element(s) at this light node have the highest omega^2
+    O.engines = yf.engines()
+    O.step()
+    st = O.engines[-2]
+    assert st.stiffestBody in {cyls[1], cyls[2]}
+    assert O.bodies[st.stiffestBody].shape.node1 == nodes[2] or O.bodies[st.stiffestBody].shape.node2 == nodes[2]
 
 
 @pytest.mark.parametrize("safety", [1.0])
