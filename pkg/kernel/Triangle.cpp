@@ -220,11 +220,24 @@ void distributeToTriangle(const Vec3 x[3], const double w[3], const Vec3& d, con
 	out[2]         = w[2] * F + Gb;
 }
 
+namespace {
+	// moment part of the nodal shares per unit offset: |f_a| <= |F| (w_a + |d| G)
+	inline double momentGain(const Frame& f) { return (std::sqrt(f.a2) + f.b.norm()) / f.An + 1 / std::sqrt(f.a2); }
+}
+
 double triangleLoadFactor(const Vec3 x[3], double r)
 {
 	const Frame f = frameOf(x);
-	if (!(f.An > 0)) return std::numeric_limits<double>::infinity();
-	return 1 + r * ((std::sqrt(f.a2) + f.b.norm()) / f.An + 1 / std::sqrt(f.a2));
+	if (!(f.An > 0)) return 1 + kFacetMomentCap;
+	return 1 + std::min(r * momentGain(f), kFacetMomentCap);
+}
+
+Vec3 cappedFacetOffset(const Vec3 x[3], const Vec3& d)
+{
+	const Frame f = frameOf(x);
+	if (!(f.An > 0)) return Vec3::Zero(); // no rotation of a degenerate facet to speak of
+	const double m = d.norm() * momentGain(f);
+	return m > kFacetMomentCap ? Vec3(d * (kFacetMomentCap / m)) : d;
 }
 
 } // namespace flex

@@ -204,7 +204,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 	g.axis1             = P;
 	g.axis2             = pt.point;
 	const Vector3r v1   = st1.vel + st1.angVel.cross(g.contactPoint - P);
-	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, g.contactPoint - pt.point);
+	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, flex::cappedFacetOffset(fn.x, g.contactPoint - pt.point));
 	g.relVel            = v2 - v1;
 	finishGeom(scene, g, own, I, I->getId1(), beaten, nb, -1, nullptr, 0);
 	return true;
@@ -257,7 +257,7 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	g.axis1            = st.p1;
 	g.axis2            = st.t.point;
 	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
-	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, g.contactPoint - st.t.point);
+	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
 	g.relVel           = v2 - v1;
 	finishGeom(scene, g, own, I, I->getId2(), beaten1, nb1, I->getId1(), beaten2, nb2);
 	return true;
@@ -311,7 +311,7 @@ namespace {
 				x[k] = s->pos;
 			}
 			const double w[3] = { bary[0], bary[1], bary[2] };
-			flex::distributeToTriangle(x, w, c - axisPoint, F, f);
+			flex::distributeToTriangle(x, w, flex::cappedFacetOffset(x, c - axisPoint), F, f);
 			for (int k = 0; k < 3; ++k)
 				scene->forces.addForce(tri[k], f[k]);
 			return;

@@ -172,7 +172,7 @@ TEST(DistributeToTriangle, PowerForceAndMomentBalance)
 		const double u = rng.uniform(0, 1), v = rng.uniform(0, 1 - u);
 		const double w[3] = { 1 - u - v, u, v };
 		const Vec3   q    = w[0] * x[0] + w[1] * x[1] + w[2] * x[2];
-		const Vec3   d = 0.1 * rng.vec(), F = rng.vec(100.0);
+		const Vec3   d = cappedFacetOffset(x, 0.1 * rng.vec()), F = rng.vec(100.0); // as the contact code uses it
 		Vec3         f[3];
 		distributeToTriangle(x, w, d, F, f);
 		const Vec3 c = q + d;
@@ -197,4 +197,31 @@ TEST(DistributeToTriangle, NormalForceOnFaceIsBarycentric)
 	distributeToTriangle(x, w, d, F, f);
 	for (int a = 0; a < 3; ++a)
 		EXPECT_TRUE(close(f[a], Vec3(w[a] * F), 1e-15, 1e-15));
+}
+
+TEST(DistributeToTriangle, CrushedTriangleSharesStayBoundedByTheCap)
+{
+	// a triangle squashed towards a line: the uncapped moment part grows like |d| / area; the
+	// capped offset keeps every nodal share below (w_a + kFacetMomentCap) |F|, with force and
+	// power still balanced; a regular lining triangle keeps its offset unchanged
+	const Vec3   d(0.0004, -0.0003, 0.001), F(3.0, -2.0, 5.0);
+	const double w[3] = { 0.2, 0.5, 0.3 };
+	for (double h : { 0.08, 1e-2, 1e-3, 1e-5, 1e-8 }) {
+		const Vec3 x[3] = { Vec3(0, 0, 0), Vec3(0.08, 0, 0), Vec3(0.04, h, 0) };
+		const Vec3 dc   = cappedFacetOffset(x, d);
+		Vec3       f[3], fu[3];
+		distributeToTriangle(x, w, dc, F, f);
+		distributeToTriangle(x, w, d, F, fu);
+		EXPECT_TRUE(close(Vec3(f[0] + f[1] + f[2]), F, 1e-12, 1e-12));
+		const Vec3 vel[3] = { Vec3(0.1, 0.2, -0.3), Vec3(-0.2, 0.4, 0.1), Vec3(0.3, 0.0, 0.2) };
+		EXPECT_NEAR(F.dot(trianglePointVelocity(x, vel, w, dc)), f[0].dot(vel[0]) + f[1].dot(vel[1]) + f[2].dot(vel[2]), 1e-9 * F.norm());
+		double worstUncapped = 0;
+		for (int a = 0; a < 3; ++a) {
+			EXPECT_LE(f[a].norm(), (w[a] + kFacetMomentCap) * F.norm() * (1 + 1e-12)) << "h = " << h;
+			EXPECT_LE(f[a].norm(), triangleLoadFactor(x, d.norm()) * F.norm() * (1 + 1e-12));
+			worstUncapped = std::max(worstUncapped, fu[a].norm() / F.norm());
+		}
+		if (h == 0.08) EXPECT_EQ(dc, d); // a regular triangle: untouched
+		if (h <= 1e-5) EXPECT_GT(worstUncapped, 1 + kFacetMomentCap); // what the cap prevents (8.4 at h = 1e-5)
+	}
 }
