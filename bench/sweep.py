@@ -16,7 +16,8 @@
 #               steel, L = 1 m, r = 10 mm, tip load giving L/1000, local damping 0.8 on both.
 #               Knobs: segments (at dt fraction 0.5) and dt fraction (at 10 segments). The run goes on
 #               until the tip deflection changes by less than 1e-9 relative over 2 ms of simulated
-#               time; run time = wall time until the deflection stays within 1e-5 of its final value.
+#               time. Run time = (steps until the deflection stays within 1e-5 of its final value) x
+#               (wall time per step, median of 3 timed O.run windows of ~0.2 s on the same scene).
 #   membrane    yadeflex.membrane_scenes.pretensioned_square vs the same mesh of PFacets (crossed
 #               diagonals), prestretched by 1%, point load 1 N at the centre, local damping 0.8.
 #               Deflection at three points a quarter side from the load vs the double sine series of
@@ -37,7 +38,6 @@
 #               fill top, energy taken from the boulder 60 ms after first contact. Knobs: dt fraction,
 #               grain size (new fill each, cached by yadeflex.module.filled_module).
 import argparse
-import csv
 import dataclasses
 import json
 import math
@@ -55,6 +55,7 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import builtin_grid as bg  # noqa: E402
+import builtin_pfacet as bp  # noqa: E402
 from machine import machine_line  # noqa: E402
 from tol_ref import cantilever_reference, E as E_STEEL  # noqa: E402
 
@@ -105,12 +106,26 @@ def settle_history(read, t_check, t_max, rel_change=1e-9, wall_max=None):
 
 
 def time_to_tolerance(hist, tol):
-    """(wall s, steps) at the first record after which every value stays within tol x |final| of the final value."""
+    """Steps to the first record after which every value stays within tol x |final| of the final value."""
     final = hist[-1][2]
     k = len(hist) - 1
     while k > 0 and abs(hist[k - 1][2] - final) <= tol * abs(final):
         k -= 1
-    return hist[k][0], hist[k][1]
+    return hist[k][1]
+
+
+def time_per_step(hist, window_s=0.2, windows=3):
+    """Median wall time per step [s] of the current scene over `windows` runs of about window_s each
+    (O.run of n steps, n from the settling run's rate). Timed apart from the settling run, whose checks
+    every few hundred steps cost about 0.5 ms each (measured): more than the steps themselves for a
+    cheap scene at a large time step."""
+    n = max(200, int(window_s * hist[-1][1] / max(hist[-1][0], 1e-9)))
+    out = []
+    for _ in range(windows):
+        t0 = time.perf_counter()
+        run_chunk(n)
+        out.append((time.perf_counter() - t0) / n)
+    return statistics.median(out)
 
 
 def rel_err(x, ref):
@@ -132,16 +147,28 @@ def add_errors(rows, quantities, ref_of, analytic_of=None):
     return rows
 
 
-def write_csv(path, rows):
-    keys = []
-    for r in rows:
-        for k in r:
-            if k not in keys:
-                keys.append(k)
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
+IMPLS = ("built-in", "yade-flex")  # the order of the runs of each knob value
+
+
+def run_plan(name, plan, run, param, describe):
+    """Runs each (knob, value, scene setting, dt fraction) of plan with both implementations, built-in
+    first; run(impl, setting, fraction) -> row; the setting is saved under `param`."""
+    rows = []
+    for knob, value, n, f in plan:
+        for impl in IMPLS:
+            r = run(impl, n, f)
+            r.update(knob=knob, value=value, dt_fraction=f, **{param: n})
+            rows.append(r)
+            print(f"  {name} {impl:9s} {knob} {value}: {describe(r)}", flush=True)
+    return rows
+
+
+def share_default(rows, source, target):
+    """The run at the default of one knob is also the default point of the other: a copy of the
+    (knob, value) `source` row of each implementation under (knob, value) `target`."""
+    for impl in IMPLS:
+        base = next(r for r in rows if r["impl"] == impl and (r["knob"], r["value"]) == source)
+        rows.append(dict(base, knob=target[0], value=target[1], shared="same run as %s = %s" % source))
 
 
 def fmt(x, spec=".3g"):
@@ -210,8 +237,9 @@ def cantilever_run(impl, segments, frac):
         O.step()  # the time stepper sets O.dt
     z0 = 0.0
     hist, settled = settle_history(lambda: z0 - O.bodies[tip].state.pos[2], CANT["t_check"], CANT["t_max"])
-    wall, steps = time_to_tolerance(hist, CANT["tol"])
-    return dict(impl=impl, wall_s=wall, steps=steps, dt=O.dt, status="ok" if settled else "not settled", wall_total_s=hist[-1][0],
+    steps = time_to_tolerance(hist, CANT["tol"])
+    sps = time_per_step(hist)
+    return dict(impl=impl, wall_s=steps * sps, steps=steps, us_per_step=1e6 * sps, dt=O.dt, status="ok" if settled else "not settled", wall_total_s=hist[-1][0],
                 steps_total=hist[-1][1], tip_deflection=hist[-1][2], analytic=cantilever_reference("tip", L, r, force))
 
 
@@ -223,7 +251,7 @@ def sweep_cantilever(quick):
     rows, reps = [], (1 if quick else 3)
     for rep in range(reps):  # repeats interleaved: the wall time is the median; the deflections are identical
         for knob, value, n, f in plan:
-            for impl in ("built-in", "yade-flex"):
+            for impl in IMPLS:
                 r = cantilever_run(impl, n, f)
                 r.update(knob=knob, value=value, segments=n, dt_fraction=f)
                 if rep == 0:
@@ -239,16 +267,13 @@ def sweep_cantilever(quick):
                       f"{r['steps']} steps, dt {r['dt']:.3g}", flush=True)
     for r in rows:
         r["wall_s_runs"] = " ".join(f"{w:.3f}" for w in r["wall_s_runs"])
-    # the dt-fraction rows at the default segments share the default-segments row
-    for impl in ("built-in", "yade-flex"):
-        base = next(r for r in rows if r["impl"] == impl and r["knob"] == "segments" and r["value"] == def_seg)
-        rows.append(dict(base, knob="dt fraction", value=def_frac, shared="same run as segments=%d" % def_seg))
+    share_default(rows, ("segments", def_seg), ("dt fraction", def_frac))
 
     def ref_of(impl, knob):
         return next(r for r in rows if r["impl"] == impl and r["knob"] == "segments" and r["value"] == ref_seg)
 
     add_errors(rows, ["tip_deflection"], ref_of, lambda r: {"tip_deflection": r["analytic"]})
-    for impl in ("built-in", "yade-flex"):
+    for impl in IMPLS:
         a, b = ref_of(impl, None), next(r for r in rows if r["impl"] == impl and r["knob"] == "segments" and r["value"] == segs[-2])
         for r in rows:
             if r["impl"] == impl:
@@ -285,7 +310,6 @@ def membrane_builtin(n):
     (x or y bar, plus half of each diagonal direction per cell). EA is chosen so that T equals ours,
     Et/(1 - nu)(lam^2 - 1)/2. The linear membrane theory of the point load involves only T. Node mass:
     areal mass 0.3 kg/m2 as ours (builtin_pfacet.sheet's density rule)."""
-    import builtin_pfacet as bp
     c = MEMB
     lam = 1 + c["prestrain"]
     T = c["stiffness"] / (1 - c["poisson"]) * (lam * lam - 1) / 2
@@ -320,15 +344,16 @@ def membrane_run(impl, n, frac):
         O.step()
     pts = [grid[n // 4][n // 2], grid[n // 4][n // 4], grid[n // 2][n // 4]]  # a quarter side from the load (the test's points)
     hist, settled = settle_history(lambda: -sum(O.bodies[i].state.pos[2] for i in pts) / 3, c["t_check"], c["t_max"])
-    wall, steps = time_to_tolerance(hist, c["tol"])
+    steps = time_to_tolerance(hist, c["tol"])
     w = [-O.bodies[i].state.pos[2] for i in pts]
+    sps = time_per_step(hist)
     ana = []
     for i in pts:
         p = O.bodies[i].state.pos
         ana.append(MS.square_membrane_deflection(p[0] + side / 2, p[1] + side / 2, side / 2, side / 2, c["load"], T, side, terms=200))
     worst = max(range(3), key=lambda k: abs(w[k] / ana[k] - 1))
-    return dict(impl=impl, wall_s=wall, steps=steps, dt=O.dt, status="ok" if settled else "not settled", wall_total_s=hist[-1][0],
-                steps_total=hist[-1][1], w_edge=w[0], w_diag=w[1], w_quarter=w[2], analytic_edge=ana[0], analytic_diag=ana[1],
+    return dict(impl=impl, wall_s=steps * sps, steps=steps, us_per_step=1e6 * sps, dt=O.dt, status="ok" if settled else "not settled",
+                wall_total_s=hist[-1][0], steps_total=hist[-1][1], w_edge=w[0], w_diag=w[1], w_quarter=w[2], analytic_edge=ana[0], analytic_diag=ana[1],
                 analytic_quarter=ana[2], worst_point=("edge", "diag", "quarter")[worst], tension=T,
                 err_worst_analytic=max(abs(w[k] / ana[k] - 1) for k in range(3)))
 
@@ -338,24 +363,17 @@ def sweep_membrane(quick):
     fracs = (0.5, 1.0) if quick else DT_FRACTIONS
     def_n, def_frac = 8, 0.5
     plan = [("cells per side", n, n, def_frac) for n in cells] + [("dt fraction", f, def_n, f) for f in fracs if f != def_frac]
-    rows = []
-    for knob, value, n, f in plan:
-        for impl in ("built-in", "yade-flex"):
-            r = membrane_run(impl, n, f)
-            r.update(knob=knob, value=value, cells=n, dt_fraction=f)
-            rows.append(r)
-            print(f"  membrane {impl:9s} {knob} {value}: w {1e3 * r['w_edge']:.5f} {1e3 * r['w_diag']:.5f} mm, worst error {r['err_worst_analytic']:.4f} "
-                  f"({r['status']}), {r['wall_s']:.2f} s to 1e-5, {r['steps']} steps, dt {r['dt']:.3g}", flush=True)
-    for impl in ("built-in", "yade-flex"):
-        base = next(r for r in rows if r["impl"] == impl and r["knob"] == "cells per side" and r["value"] == def_n)
-        rows.append(dict(base, knob="dt fraction", value=def_frac, shared=f"same run as cells={def_n}"))
+    rows = run_plan("membrane", plan, membrane_run, "cells",
+                    lambda r: f"w {1e3 * r['w_edge']:.5f} {1e3 * r['w_diag']:.5f} mm, worst error {r['err_worst_analytic']:.4f} ({r['status']}), "
+                              f"{r['wall_s']:.2f} s to 1e-5, {r['steps']} steps, dt {r['dt']:.3g}")
+    share_default(rows, ("cells per side", def_n), ("dt fraction", def_frac))
     qs = ["w_edge", "w_diag", "w_quarter"]
 
     def ref_of(impl, knob):
         return next(r for r in rows if r["impl"] == impl and r["knob"] == "cells per side" and r["value"] == cells[-1])
 
     add_errors(rows, qs, ref_of, lambda r: {q: r["analytic" + q[1:]] for q in qs})
-    for impl in ("built-in", "yade-flex"):
+    for impl in IMPLS:
         a, b = ref_of(impl, None), next(r for r in rows if r["impl"] == impl and r["knob"] == "cells per side" and r["value"] == cells[-2])
         for r in rows:
             if r["impl"] == impl:
@@ -480,17 +498,10 @@ def sweep_net(quick):
     fracs = (0.25, 0.5, 1.0) if quick else (0.125,) + DT_FRACTIONS
     def_seg, def_frac = 1, 0.5
     plan = [("dt fraction", f, def_seg, f) for f in fracs] + [("segments per leg", n, n, def_frac) for n in segs if n != def_seg]
-    rows = []
-    for knob, value, n, f in plan:
-        for impl in ("built-in", "yade-flex"):
-            r = net_run(impl, n, f)
-            r.update(knob=knob, value=value, segments=n, dt_fraction=f)
-            rows.append(r)
-            print(f"  net {impl:9s} {knob} {value}: peak {r['peak_force'] / 1e3:.2f} kN, deflection {1e3 * r['max_deflection']:.2f} mm, "
-                  f"absorbed {r['absorbed_energy']:.2f} J, {r['wall_s']:.1f} s, {r['steps']} steps, dt {r['dt']:.3g} ({r['status']})", flush=True)
-    for impl in ("built-in", "yade-flex"):
-        base = next(r for r in rows if r["impl"] == impl and r["knob"] == "dt fraction" and r["value"] == def_frac)
-        rows.append(dict(base, knob="segments per leg", value=def_seg, shared=f"same run as dt fraction {def_frac}"))
+    rows = run_plan("net", plan, net_run, "segments",
+                    lambda r: f"peak {r['peak_force'] / 1e3:.2f} kN, deflection {1e3 * r['max_deflection']:.2f} mm, absorbed {r['absorbed_energy']:.2f} J, "
+                              f"{r['wall_s']:.1f} s, {r['steps']} steps, dt {r['dt']:.3g} ({r['status']})")
+    share_default(rows, ("dt fraction", def_frac), ("segments per leg", def_seg))
     # references: the smallest dt fraction (at 1 segment per leg); the most segments per leg (at dt fraction 0.5)
     for r in rows:
         r["reference"] = (r["knob"] == "dt fraction" and r["value"] == fracs[0]) or (r["knob"] == "segments per leg" and r["value"] == segs[-1])
@@ -500,7 +511,7 @@ def sweep_net(quick):
         return next(r for r in rows if r["impl"] == impl and r["knob"] == knob and r["reference"])
 
     add_errors(rows, qs, ref_of)
-    for impl in ("built-in", "yade-flex"):
+    for impl in IMPLS:
         a, b = [r for r in rows if r["impl"] == impl and r["knob"] == "dt fraction" and r["value"] in fracs[:2]]
         for r in rows:
             if r["impl"] == impl and r["knob"] == "dt fraction":
@@ -659,7 +670,7 @@ def sweep_module(quick):
         return next((r for r in rows if r["impl"] == impl and r["knob"] == knob and r.get("reference")), None)
 
     add_errors(rows, qs, ref_of)
-    for impl in ("built-in", "yade-flex"):  # convergence of the dt reference: the two smallest fractions
+    for impl in IMPLS:  # convergence of the dt reference: the two smallest fractions
         a, b = [r for r in rows if r["impl"] == impl and r["knob"] == "dt fraction" and r["value"] in fracs[:2]]
         for r in rows:
             if r["impl"] == impl:
@@ -692,7 +703,7 @@ def main():
         rows, qs, err_key, xlabel = SCENES[name](a.quick)
         for r in rows:
             r["scene"] = name
-        write_csv(os.path.join(a.out, f"sweep_{name}{tag}.csv"), rows)
+        bp._write_csv(os.path.join(a.out, f"sweep_{name}{tag}.csv"), rows)
         plot(os.path.join(a.out, f"sweep_{name}{tag}.png"), rows, err_key, f"{name}: wall time against error ({line.strip()})", xlabel)
         cols = ["impl", "knob", "value", "wall_s", "steps", "dt", "status"] + qs + [f"err_{q}_ref" for q in qs] + \
             [k for k in (f"err_{q}_analytic" for q in qs) if any(k in r for r in rows)] + [k for k in ("err_worst_analytic", "ref_convergence") if any(k in r for r in rows)]
