@@ -37,7 +37,7 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, build_filled, add_boulder, fill_top, G  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G  # noqa: E402
 import builtin_module as bm  # noqa: E402
 
 
@@ -63,21 +63,12 @@ def parse():
 
 
 def filled(p, cache_dir):
-    """Cache file of the filled module of p: loaded if it loads with the installed plugin, else (missing,
-    or saved by a plugin with another class layout) built and saved again."""
-    os.makedirs(cache_dir, exist_ok=True)
-    f = os.path.join(cache_dir, f"module-{p.fill_key()}.yade.gz")
-    if os.path.exists(f):
-        try:
-            O.load(f)
-            return f
-        except RuntimeError as e:
-            print(f"  cache {f} does not load ({e}): building it again")
+    """Cache file of the filled module of p, on O (yadeflex.module.filled_module: loaded, or built and
+    saved when missing or unreadable by the installed plugin)."""
     t = time.time()
-    build_filled(p)
-    O.save(f + ".tmp.yade.gz")
-    os.replace(f + ".tmp.yade.gz", f)
-    print(f"  filled module built in {time.time() - t:.0f} s: {f}")
+    _, f, cached = filled_module(p, cache_dir=cache_dir)
+    if not cached:
+        print(f"  filled module built in {time.time() - t:.0f} s: {f}")
     return f
 
 

@@ -533,23 +533,13 @@ def small_params(grains=None):
 
 
 def filled_cache(p):
-    """Cache file of the filled module of p (yadeflex.module's cache): loaded if it loads with the installed
-    plugin, else built and saved (a plugin with another class layout cannot load an old file)."""
-    from yadeflex.module import build_filled
-    d = os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
-    os.makedirs(d, exist_ok=True)
-    f = os.path.join(d, f"module-{p.fill_key()}.yade.gz")
-    if os.path.exists(f):
-        try:
-            O.load(f)
-            return f
-        except RuntimeError as e:
-            print(f"  cache {f} does not load ({e}): building it again", flush=True)
+    """Cache file of the filled module of p, on O (yadeflex.module.filled_module: loaded, or built and
+    saved when missing or unreadable by the installed plugin)."""
+    from yadeflex.module import filled_module
     t = time.time()
-    build_filled(p)
-    O.save(f + ".tmp.yade.gz")
-    os.replace(f + ".tmp.yade.gz", f)
-    print(f"  filled module {p.grain_min}-{p.grain_max} m built in {time.time() - t:.0f} s", flush=True)
+    _, f, cached = filled_module(p)
+    if not cached:
+        print(f"  filled module {p.grain_min}-{p.grain_max} m built in {time.time() - t:.0f} s", flush=True)
     return f
 
 
