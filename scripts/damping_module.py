@@ -182,8 +182,17 @@ def main():
             free_fall = dict(v_measured=v_before, v_expected=math.sqrt(2 * G * h), fall_height=h, t=O.time - start)
     dt0 = O.dt
     ts = next(e for e in O.engines if e.label == "flexDt")
+    guard = next((e for e in O.engines if type(e).__name__ == "FlexGuard"), None)
     while O.time < t_end:
-        O.step()
+        try:
+            O.step()
+        except RuntimeError as e:  # FlexGuard: non-finite state, runaway step or energy created; names the bodies
+            if guard is None or not guard.message:
+                raise
+            print(f"damping_module: unstable state at t = {1e3 * (O.time - start):.2f} ms, stopped by FlexGuard: {guard.message}; "
+                  f"bodies: {', '.join(part_name(b, ids) for b in guard.bodies[:5])}", file=sys.stderr)
+            status = 2
+            break
         if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * dt0:
             print(f"damping_module: the stable time step collapsed from {dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - start):.2f} ms; "
                   f"it is set by {part_name(ts.stiffestBody, ids)} (a crushed lining facet or a light node under a stiff contact); "

@@ -20,7 +20,7 @@ on_curve = [i for i in range(len(e)) if f[i] is not None and e[i] >= emax[i]]  #
 for ek, sk in zip(wire.TECCO_WIRE_STRAIN, wire.TECCO_WIRE_STRESS):
     k = min(on_curve, key=lambda i: abs(e[i] - ek))
     worst = max(worst, abs(f[k] - sk * A) / (sk * A))
-print(f"knots: worst force error {worst:.2e}; ruptured {O.engines[3].nRuptured}; "
+print(f"knots: worst force error {worst:.2e}; ruptured {next(e for e in O.engines if e.label == 'flexElements').nRuptured}; "
       f"plastic {O.energy['flexBondPlastic']:.4f} J, rupture {O.energy['flexRupture']:.4f} J")
 tensile.write_curve(out + "/wire", dict(elongation=e, force=[x / 1e3 if x is not None else None for x in f]),
                     "strain [-]", "force [kN]", "TECCO wire d = 3 mm: curve, cycle, rupture", y="force",

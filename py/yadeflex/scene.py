@@ -9,7 +9,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop,
                           Ig2_Sphere_FlexFacet_FlexContactGeom, Ig2_FlexCylinder_FlexFacet_FlexContactGeom,
                           Ig2_FlexFacet_FlexFacet_FlexContactGeom, Ig2_Sphere_Sphere_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
-                          Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator,
+                          Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator, FlexGuard,
                           FlexCylinder, FlexNode, Sphere)
 
 from .builders import check_finite
@@ -26,7 +26,7 @@ def _min_contact_radius():
 
 
 def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
-            rolling_stiffness=0.0, rolling_friction=0.0):
+            rolling_stiffness=0.0, rolling_friction=0.0, guard=False):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
@@ -39,6 +39,11 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     0.24% at 0.3, measured), hence 0.5. flex_sphere_contacts: sphere-sphere contacts use
     yade-flex's contact geometry and law (friction dissipation consistent with the leap-frog
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
+    guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
+    naming the bodies at the first non-finite value, step longer than half a contact radius or
+    (with O.trackEnergy) energy created without external work; it costs one pass over the
+    bodies per step. Or a FlexGuard to use. Off by default: it still raises false alarms on
+    driven scenes (tensile tests booking energy before their first external work).
     """
     g = check_finite("gravity", gravity)
     if not (0 <= damping < 1):
@@ -51,7 +56,11 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     if verlet is None:
         r = _min_contact_radius()
         verlet = 0.5 * r if math.isfinite(r) else 0.0
-    return [
+    if guard is True:
+        guard = FlexGuard(label="guard")
+    elif guard is not False and not isinstance(guard, FlexGuard):
+        raise ValueError(f"guard must be True, False or a FlexGuard, got {guard!r}")
+    return ([guard] if guard else []) + [
         ForceResetter(),
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_FlexFacet_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
                               verletDist=verlet, label="collider"),

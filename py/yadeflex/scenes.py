@@ -103,12 +103,13 @@ def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, g
 
 
 def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=9.81,
-               sphere_young=5e9, sphere_density=2500.0, friction_deg=30.0, gap=1e-4):
+               sphere_young=5e9, sphere_density=2500.0, friction_deg=30.0, gap=1e-4, material=None):
     """Square net of n x n nodes (border clamped) hit at its centre by a sphere moving down
     at speed [m/s], starting gap [m] above the wires; sphere_young [Pa], sphere_density
-    [kg/m3], friction_deg [deg] for wires and sphere."""
+    [kg/m3], friction_deg [deg] for wires and sphere; material: the wires' FlexMat (default
+    steel with friction_deg)."""
     O.reset()
-    mat = steel(friction_deg=friction_deg)
+    mat = material if material is not None else steel(friction_deg=friction_deg)
     grid, cyls = B.net(n, spacing, wire_radius, mat)
     c = (n - 1) * spacing / 2.0
     s = sphere((c, c, sphere_radius + wire_radius + gap), sphere_radius, density=sphere_density, young=sphere_young,

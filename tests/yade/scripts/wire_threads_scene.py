@@ -17,7 +17,7 @@ for e in O.engines:
         e.parallelMin = 1
 for k in range(N):
     O.step()
-print("ENERGY", repr(O.energy["flexBondPlastic"]), O.engines[3].nRuptured)
+print("ENERGY", repr(O.energy["flexBondPlastic"]), next(e for e in O.engines if e.label == "flexElements").nRuptured)
 for c in s["cylinders"]:
     b = O.bodies[c]
     print("ROW", c, repr(b.shape.wireSlack) if b else "broken", repr(b.shape.axialForce) if b else "0.0")

@@ -1,0 +1,259 @@
+// yade-flex adapter: FlexGuard (GPL-2.0-or-later). Definitions: FlexGuard.hpp.
+#include "FlexGuard.hpp"
+#include "FlexCommon.hpp"
+
+#include <core/EnergyTracker.hpp>
+#include <lib/factory/ClassFactory.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace yade {
+
+YADE_PLUGIN((FlexGuard));
+
+namespace {
+	bool finite3(const Vector3r& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+	std::string fmt(const Vector3r& v)
+	{
+		std::ostringstream os;
+		os.precision(6);
+		os << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")";
+		return os.str();
+	}
+
+	Vector3r gravityOf(const Scene* scene)
+	{
+		for (const auto& e : scene->engines)
+			if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n->gravity;
+		return Vector3r::Zero();
+	}
+} // namespace
+
+void FlexGuard::validate() const
+{
+	auto bad = [](const std::string& name, Real v, const char* need) {
+		std::ostringstream os;
+		os << "FlexGuard." << name << " must be " << need << ", got " << v;
+		throw std::invalid_argument(os.str());
+	};
+	if (interval < 1) bad("interval", interval, ">= 1");
+	if (!(maxStepFraction > 0)) bad("maxStepFraction", maxStepFraction, "> 0 (inf: off)");
+	if (!(maxSpeed > 0)) bad("maxSpeed", maxSpeed, "> 0 (inf: off)");
+	if (!(energyTolerance > 0)) bad("energyTolerance", energyTolerance, "> 0 (inf: off)");
+}
+
+void FlexGuard::resetPy()
+{
+	message.clear();
+	bodies.clear();
+	detectedIter   = -1;
+	energyStart    = NaN;
+	energyScale    = 0;
+	energyResidual = 0;
+	externalWork   = 0;
+	maxStepSeen    = 0;
+	lastWorkIter   = -1;
+	lastEnergyCount = 0;
+}
+
+void FlexGuard::refresh()
+{
+	auto& bs = *scene->bodies;
+	contactRadius.assign(bs.size(), std::numeric_limits<Real>::infinity());
+	for (const auto& b : bs) {
+		if (!b || !b->shape) continue;
+		if (const auto* s = dynamic_cast<const Sphere*>(b->shape.get())) contactRadius[b->id] = s->radius;
+		else if (const auto* n = dynamic_cast<const FlexNode*>(b->shape.get())) {
+			Real r = std::numeric_limits<Real>::infinity();
+			for (int e : n->elements) {
+				if (e < 0 || e >= (int)bs.size() || !bs[e]) continue;
+				if (const auto* c = dynamic_cast<const FlexCylinder*>(bs[e]->shape.get())) r = std::min(r, c->radius);
+				else if (const auto* f = dynamic_cast<const FlexFacet*>(bs[e]->shape.get()))
+					r = std::min(r, f->radius);
+			}
+			contactRadius[b->id] = r;
+		}
+	}
+	cachedBodyCount = bs.size();
+}
+
+// Work done on the scene by driven DOFs during the step that has just ended. The previous step
+// booked the driven body's kinetic energy (constant while its velocity is) and its gravWork
+// -m g.v dt; the driver, holding v against the scene's force F and gravity, supplies
+// -(F + m g).v dt, which is what the scene's total receives. Rotations: -T.omega dt.
+void FlexGuard::addExternalWork()
+{
+	if (scene->iter == lastWorkIter) return; // once per step
+	lastWorkIter = scene->iter;
+	if (scene->iter == 0) return; // no step has been taken yet
+	const Vector3r g  = gravityOf(scene);
+	Real           dW = 0;
+	scene->forces.sync();
+	for (Body::id_t id : driven) {
+		const auto& b = Body::byId(id, scene);
+		if (!b) continue;
+		const State&    st = *b->state;
+		const Vector3r& F  = scene->forces.getForce(id); // includes permanent forces
+		const Vector3r& T  = scene->forces.getTorque(id);
+		for (int i = 0; i < 3; i++) {
+			if (st.blockedDOFs & State::axisDOF(i, false)) dW -= (F[i] + st.mass * g[i]) * st.vel[i];
+			if (st.blockedDOFs & State::axisDOF(i, true)) dW -= T[i] * st.angVel[i];
+		}
+	}
+	// Permanent forces (O.forces.setPermF) are external loads: their work over the last step,
+	// F.(x_{n+1} - x_n) = F.v_{n+1/2} dt, with the velocity the step has just produced. On a
+	// blocked DOF the driver absorbs it: the line above already counts it with the opposite sign.
+	if (scene->forces.getPermForceUsed())
+		for (Body::id_t id : loaded) {
+			const auto& b = Body::byId(id, scene);
+			if (!b) continue;
+			dW += scene->forces.getPermForce(id).dot(b->state->vel) + scene->forces.getPermTorque(id).dot(b->state->angVel);
+		}
+	externalWork += dW * scene->dt;
+}
+
+void FlexGuard::fail(const std::string& what, const std::vector<Body::id_t>& ids)
+{
+	bodies.assign(ids.begin(), ids.end());
+	detectedIter = scene->iter;
+	std::ostringstream os;
+	os << "FlexGuard: instability at iter " << scene->iter << " (t = " << scene->time << " s, dt = " << scene->dt << " s): " << what;
+	message = os.str();
+	// Leave the scene as the previous step left it: nothing of this step has run (the guard is
+	// first), and subStep back to "between steps" so that a later O.step() starts a full step.
+	scene->subStep = -1;
+	throw std::runtime_error(message);
+}
+
+void FlexGuard::action()
+{
+	validate();
+	if (scene->trackEnergy) addExternalWork();
+	if (scene->iter % interval != 0) return;
+	auto& bs = *scene->bodies;
+	if (bs.size() != cachedBodyCount) refresh();
+	driven.clear();
+	loaded.clear();
+	scene->forces.sync();
+	const bool permUsed = scene->forces.getPermForceUsed();
+
+	// 1-3: one pass over the bodies; the worst offender of each kind is reported first.
+	struct Worst {
+		Real                    value = 0;
+		std::vector<Body::id_t> ids;
+		Body::id_t              first = -1;
+		void                    add(Body::id_t id, Real v)
+		{
+			ids.push_back(id);
+			if (first < 0 || v > value) {
+				value = v;
+				first = id;
+			}
+		}
+	} nonFinite, longStep, fast;
+	std::string nonFiniteWhat;
+	const Real  dt       = scene->dt;
+	Real        maxRatio = 0;
+	for (const auto& b : bs) {
+		if (!b) continue;
+		const Body::id_t id = b->id;
+		const State&     st = *b->state;
+		if (st.blockedDOFs) driven.push_back(id);
+		if (permUsed && (scene->forces.getPermForce(id) != Vector3r::Zero() || scene->forces.getPermTorque(id) != Vector3r::Zero()))
+			loaded.push_back(id);
+		const Vector3r& F = scene->forces.getForce(id);
+		const Vector3r& T = scene->forces.getTorque(id);
+		if (!(finite3(st.pos) && finite3(st.vel) && finite3(st.angVel) && finite3(F) && finite3(T))) {
+			if (nonFinite.ids.empty()) {
+				std::ostringstream os;
+				os << "body #" << id << " has a non-finite";
+				if (!finite3(st.pos)) os << " position " << fmt(st.pos);
+				if (!finite3(st.vel)) os << " velocity " << fmt(st.vel);
+				if (!finite3(st.angVel)) os << " angular velocity " << fmt(st.angVel);
+				if (!finite3(F)) os << " force " << fmt(F);
+				if (!finite3(T)) os << " torque " << fmt(T);
+				nonFiniteWhat = os.str();
+			}
+			nonFinite.ids.push_back(id);
+			continue;
+		}
+		const Real v = st.vel.norm();
+		if (v > maxSpeed) fast.add(id, v);
+		const Real r = contactRadius[id];
+		if (std::isfinite(r) && r > 0) {
+			const Real ratio = v * dt / r;
+			maxRatio         = std::max(maxRatio, ratio);
+			if (ratio > maxStepFraction) longStep.add(id, ratio);
+		}
+	}
+	maxStepSeen = maxRatio;
+	// the worst body first, then the others in id order
+	auto ordered = [](const Worst& w) {
+		std::vector<Body::id_t> out {w.first};
+		for (Body::id_t id : w.ids)
+			if (id != w.first) out.push_back(id);
+		return out;
+	};
+	auto more = [](const Worst& w) {
+		return w.ids.size() > 1 ? " (" + std::to_string(w.ids.size()) + " bodies in all)" : std::string();
+	};
+	if (!nonFinite.ids.empty()) {
+		const std::string extra = nonFinite.ids.size() > 1 ? " (" + std::to_string(nonFinite.ids.size()) + " bodies in all)" : std::string();
+		fail(nonFiniteWhat + extra, nonFinite.ids);
+	}
+	if (!longStep.ids.empty()) {
+		const auto&        b = Body::byId(longStep.first, scene);
+		std::ostringstream os;
+		os << "body #" << longStep.first << " moves " << longStep.value << " x its contact radius " << contactRadius[longStep.first]
+		   << " m in one step (|v| = " << b->state->vel.norm() << " m/s; limit maxStepFraction = " << maxStepFraction << ")" << more(longStep)
+		   << "; the time step is too long for a contact or element acting on it";
+		fail(os.str(), ordered(longStep));
+	}
+	if (!fast.ids.empty()) {
+		std::ostringstream os;
+		os << "body #" << fast.first << " moves at " << fast.value << " m/s > maxSpeed = " << maxSpeed << " m/s" << more(fast);
+		fail(os.str(), ordered(fast));
+	}
+
+	// 4: energy created without external work
+	if (!scene->trackEnergy || !std::isfinite(energyTolerance)) return;
+	const EnergyTracker& en    = *scene->energy;
+	const Real           total = en.total();
+	if (!std::isfinite(total)) fail("O.energy.total() is not finite", {});
+	// O.energy.clear() (or a fresh tracker): start a new balance once a step has booked energy
+	if (en.energies.size() < lastEnergyCount) energyStart = NaN;
+	lastEnergyCount = en.energies.size();
+	if (lastEnergyCount == 0) return;
+	if (std::isnan(energyStart)) {
+		energyScale  = 0;
+		energyStart  = total;
+		externalWork = 0;
+	}
+	Real sumAbs = std::abs(externalWork);
+	for (size_t i = 0; i < en.energies.size(); i++)
+		sumAbs += std::abs(en.energies.get(i));
+	energyScale    = std::max(energyScale, sumAbs);
+	energyResidual = (total - energyStart) - externalWork;
+	if (energyScale > 0 && energyResidual > energyTolerance * energyScale) {
+		// name the bodies carrying the most kinetic energy: where the created energy shows
+		std::vector<std::pair<Real, Body::id_t>> kin;
+		for (const auto& b : bs)
+			if (b && b->state->mass > 0) kin.emplace_back(0.5 * b->state->mass * b->state->vel.squaredNorm(), b->id);
+		const size_t nShow = std::min<size_t>(5, kin.size());
+		std::partial_sort(kin.begin(), kin.begin() + nShow, kin.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+		std::vector<Body::id_t> ids;
+		std::ostringstream      os;
+		os << "energy created without external work: (total - start) - externalWork = " << energyResidual << " J > energyTolerance = " << energyTolerance
+		   << " x energy scale " << energyScale << " J; largest kinetic energy:";
+		for (size_t i = 0; i < nShow; i++) {
+			ids.push_back(kin[i].second);
+			os << " #" << kin[i].second << " " << kin[i].first << " J" << (i + 1 < nShow ? "," : "");
+		}
+		fail(os.str(), ids);
+	}
+}
+
+} // namespace yade

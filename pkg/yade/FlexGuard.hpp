@@ -1,0 +1,76 @@
+// yade-flex adapter: FlexGuard, an engine that stops a run at the first sign of numerical
+// instability and names the bodies involved (GPL-2.0-or-later).
+//
+// Checks, on one pass over the bodies every `interval` steps:
+//  1. non-finite position, velocity, angular velocity, force or torque;
+//  2. step length |v| dt above maxStepFraction x the body's contact radius (a sphere's radius;
+//     for a FlexNode the smallest radius of its attached FlexCylinder/FlexFacet elements):
+//     a contact cannot resolve an overlap that changes by a sizeable fraction of the radius in
+//     one step, and a node moving by more than its wire's radius can tunnel through a wire;
+//     in a blow-up |v| grows geometrically, so this fires long before the values overflow;
+//  3. speed above maxSpeed (off by default);
+//  4. with O.trackEnergy, energy created without external work: the balance residual
+//         R = (O.energy.total() - total at the first check) - W_ext
+//     where W_ext is the work done on the scene by kinematically driven DOFs (blocked DOFs
+//     that move: -(F + m g) . v dt per step, -T . omega dt for rotations, with F, T the
+//     forces the rest of the scene puts on them) and by permanent forces (O.forces.setPermF:
+//     F . v dt), relative to the energy scale
+//         S = max over the checks so far of (sum_k |E_k| + |W_ext|)
+//     (every term the run has booked, so S >= the impact or initial energy). A blow-up
+//     creates energy that soon dominates every other term, so R / S -> 1; the integration
+//     error of a stable run is a few percent of S at most (README: the wire-and-ring demo at
+//     timestep safety 0.8). The check fires when R > energyTolerance x S.
+//
+// Forces added from Python each step (O.forces.addF in a PyRunner) are external work the guard
+// cannot see: such scenes need energyTolerance = inf (or the work booked in O.energy).
+//
+// On detection: `message` and `bodies` are set and std::runtime_error is thrown, which O.step()
+// raises as RuntimeError and O.run() reports through O.wait() (and O.run(n, True)). The guard
+// should be the FIRST engine: it then inspects the state left by the previous step before any
+// other engine of this step has run, and the scene is left exactly in that state (the step in
+// which it threw does not count: O.iter is unchanged).
+#pragma once
+#include "FlexPch.hpp"
+
+namespace yade {
+
+class FlexGuard : public GlobalEngine {
+	std::vector<Real>       contactRadius; // per body id; +inf: no step check
+	std::vector<Body::id_t> driven;        // bodies with blocked DOFs (kinematic drivers)
+	std::vector<Body::id_t> loaded;        // bodies with a permanent force or torque
+	size_t                  cachedBodyCount = 0;
+	long                    lastWorkIter    = -1;
+	size_t                  lastEnergyCount = 0; // number of O.energy terms at the last check
+	void                    refresh();
+	void                    addExternalWork();
+	[[noreturn]] void       fail(const std::string& what, const std::vector<Body::id_t>& ids);
+
+public:
+	/// Throws std::invalid_argument naming the first bad parameter.
+	void validate() const;
+	void postLoad(FlexGuard&) { validate(); }
+	void action() override;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexGuard, GlobalEngine,
+		"Stops a run at the first sign of numerical instability and names the bodies involved (yade-flex): non-finite state, a step longer than :yref:`FlexGuard.maxStepFraction` of a body's contact radius, a speed above :yref:`FlexGuard.maxSpeed`, or (with O.trackEnergy) energy created without external work beyond :yref:`FlexGuard.energyTolerance`. Sets :yref:`FlexGuard.message` and :yref:`FlexGuard.bodies` and throws: O.step() raises RuntimeError with the message, O.run() stops and O.wait() raises it. Put it first in O.engines so that the state it reports is kept unchanged. See pkg/yade/FlexGuard.hpp for the definitions.",
+		((int, interval, 1, Attr::triggerPostLoad, "Check every this many steps (>= 1); the external work is summed every step [-]"))
+		((Real, maxStepFraction, 0.5, Attr::triggerPostLoad, "Largest step |v| dt as a fraction of the body's contact radius, in (0, inf]; inf: off [-]"))
+		((Real, maxSpeed, std::numeric_limits<Real>::infinity(), Attr::triggerPostLoad, "Largest speed of any body, > 0; inf (default): off [m/s]"))
+		((Real, energyTolerance, 0.25, Attr::triggerPostLoad, "Largest energy created without external work, as a fraction of the energy scale (see :yref:`FlexGuard.energyScale`), > 0; inf: off. Only with O.trackEnergy [-]"))
+		((std::string, message, "", Attr::readonly, "What was detected (empty: nothing)"))
+		((vector<int>, bodies, , Attr::readonly, "Ids of the bodies involved, worst first"))
+		((long, detectedIter, -1, Attr::readonly, "O.iter at detection (-1: none)"))
+		((Real, energyStart, NaN, Attr::readonly, "O.energy.total() at the first check after a step has booked energy (taken again after O.energy.clear()) [J]"))
+		((Real, energyScale, 0, Attr::readonly, "Largest sum of |O.energy terms| + |externalWork| seen so far [J]"))
+		((Real, energyResidual, 0, Attr::readonly, "Energy created without external work at the last check, (total - energyStart) - externalWork [J]"))
+		((Real, externalWork, 0, Attr::readonly, "Work done on the scene by moving blocked DOFs and permanent forces since energyStart was taken [J]"))
+		((Real, maxStepSeen, 0, Attr::readonly, "Largest |v| dt / contact radius at the last check [-]")),
+		,
+		.def("reset", &FlexGuard::resetPy, "Forget a detection and the energy reference (the next check starts a new balance).")
+	);
+	// clang-format on
+	void resetPy();
+};
+REGISTER_SERIALIZABLE(FlexGuard);
+
+} // namespace yade
