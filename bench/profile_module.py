@@ -203,16 +203,23 @@ def parent(a):
         for t in a.threads:
             rs = [r for r in runs if r["threads"] == t and r["label"] == label]
             total = statistics.median(r["us_per_step"] for r in rs)
-            rows.append(dict(label=label, threads=t, engine="step (wall)", us_per_step=round(total, 1), share=1.0, reps=len(rs)))
+            dt = statistics.median(r["dt"] for r in rs)
+            rows.append(dict(label=label, threads=t, engine="step (wall)", us_per_step=round(total, 1), share=1.0, reps=len(rs), dt=dt,
+                             wall_s_per_simulated_s=round(total * 1e-6 / dt, 1)))
             for name in rs[0]["engines"]:
                 us = statistics.median(r["engines"][name] for r in rs)
-                rows.append(dict(label=label, threads=t, engine=name, us_per_step=round(us, 1), share=round(us / total, 4), reps=len(rs)))
+                rows.append(dict(label=label, threads=t, engine=name, us_per_step=round(us, 1), share=round(us / total, 4), reps=len(rs), dt=dt,
+                                 wall_s_per_simulated_s=round(us * 1e-6 / dt, 1)))
     if a.baseline:
         for t in a.threads:
             pairs = [(b["us_per_step"], c["us_per_step"]) for b in runs for c in runs if b["threads"] == c["threads"] == t
                      and b["rep"] == c["rep"] and b["label"] == a.baseline_label and c["label"] == a.label]
             print(f"-j{t}: {a.label} faster than {a.baseline_label} by {statistics.median(x / y for x, y in pairs):.2f}x "
                   f"(median of {len(pairs)} paired runs: " + ", ".join(f"{x / y:.2f}" for x, y in pairs) + ")")
+            sim = [(b["us_per_step"] / b["dt"], c["us_per_step"] / c["dt"]) for b in runs for c in runs if b["threads"] == c["threads"] == t
+                   and b["rep"] == c["rep"] and b["label"] == a.baseline_label and c["label"] == a.label]
+            print(f"-j{t}: per simulated second, {a.label} faster than {a.baseline_label} by {statistics.median(x / y for x, y in sim):.2f}x "
+                  f"(paired: " + ", ".join(f"{x / y:.2f}" for x, y in sim) + ")")
     from machine import machine_line
     with open(os.path.splitext(out)[0] + "_machine.txt", "a") as f:
         f.write(f"{', '.join(lb for lb, _ in builds)}: " + machine_line())
@@ -226,6 +233,9 @@ def parent(a):
         w.writerows(old + rows)
     cols = [(lb, t) for lb, _ in builds for t in a.threads]
     print(f"\nmodule {'(--small) ' if a.small else ''}impact, medians of {a.reps} runs x {a.steps} steps")
+    for lb, t in cols:
+        r = next(x for x in rows if x["threads"] == t and x["engine"] == "step (wall)" and x["label"] == lb)
+        print(f"{lb} -j{t}: time step {r['dt']:.3g} s, {r['wall_s_per_simulated_s']:.0f} s of wall time per simulated second")
     print(f"{'engine':24s}" + "".join(f"{(lb[:14] + ' -j' + str(t)):>24s}{'share':>8s}" for lb, t in cols))
     for name in [r["engine"] for r in rows if r["threads"] == a.threads[0] and r["label"] == a.label]:
         line = f"{name:24s}"

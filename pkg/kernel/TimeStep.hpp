@@ -21,4 +21,25 @@ double beamMaxOmega2(const BeamSection& s, double L, double mi, double mj, doubl
 /// Stable step for omega^2 (2/omega); +inf for omega^2 <= 0.
 double criticalTimeStep(double omega2);
 
+// Which potential contacts can start before the collider runs again.
+// With a sweep s (YADE's Bound::sweepLength) the collider re-runs as soon as a body's point x
+// is found farther than s, in any coordinate, from the position ref it had when its bound was
+// built; until then x stays in the box |x - ref|_inf < s. The gap between two shapes (each
+// the points within a radius of a point, segment or triangle spanned by such points) can
+// shrink at most by the distances their defining points can still travel, so a pair whose
+// gap exceeds the sum cannot touch before the next collider run, when the time step is
+// estimated again.
+
+/// Farthest distance from x to a point of the box |y - ref|_inf <= sweep [m].
+double reachableDistance(const Vec3& x, const Vec3& ref, double sweep);
+
+/// Gap between two thick primitives: the distance between the point (n = 1), segment (2) or
+/// triangle (3) spanned by a[0..na) and the one spanned by b[0..nb), minus ra + rb [m];
+/// negative: overlap. Triangle-triangle: -infinity (not computed, never called apart).
+double primitiveGap(const Vec3* a, int na, double ra, const Vec3* b, int nb, double rb);
+
+/// Whether a pair with this gap cannot touch while its two sides travel at most reachA and
+/// reachB: gap > reachA + reachB with a relative margin of 1e-9 that covers round-off.
+bool cannotTouch(double gap, double reachA, double reachB, double size);
+
 } // namespace flex

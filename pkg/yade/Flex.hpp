@@ -248,24 +248,31 @@ class FlexTimeStepper : public GlobalEngine {
 	long   lastColliderRuns     = -1;
 	// where the last bounds came from (const estimates record them)
 	mutable Body::id_t stiffestBondBody = -1, stiffestContactBody = -1, stiffestCache = -1;
+	mutable long       skippedCache = 0;
 
 public:
 	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
 	Real omega2Bonds() const;
 	Real omega2Contacts() const;
+	Real omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut) const;
+	/// the potential pairs the estimate leaves out now (see skipUnreachable), for tests
+	boost::python::list unreachablePairs() const;
 	Real critical() const;
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
-		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
+		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have) that could start before the collider runs again (see skipUnreachable), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
 		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
 		((int, interval, 50, , "Recompute every this many steps [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]"))
-		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]")),
+		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]"))
+		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine). False: count every potential contact, as before 2026-11-22."))
+		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]")),
 		,
 		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")
 		.def("omega2Bonds", &FlexTimeStepper::omega2Bonds, "Bound of the largest omega^2 from bonds [1/s^2]")
 		.def("omega2Contacts", &FlexTimeStepper::omega2Contacts, "Bound of the largest omega^2 from contacts [1/s^2]")
+		.def("unreachablePairs", &FlexTimeStepper::unreachablePairs, "Potential contacts (id1, id2) that the estimate leaves out in the current state: they cannot start before the collider runs again (see skipUnreachable)")
 	);
 	// clang-format on
 };

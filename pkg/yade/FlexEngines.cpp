@@ -241,6 +241,7 @@ namespace {
 		Real            radius      = -1; // contact radius (sphere, cylinder, facet), -1: Ip2 takes the other side's
 		Real            kappa       = 0; // facet: triangle load factor - 1 (see triangleLoadFactor)
 		const FrictMat* mat         = nullptr;
+		bool            sphere      = false; // a Sphere shape (clump members too)
 		flexa::Element  el;
 	};
 
@@ -259,8 +260,10 @@ namespace {
 			}
 			s.mat = dynamic_cast<const FrictMat*>(b->material.get());
 			if (!b->shape) continue;
-			if (const Sphere* sp = dynamic_cast<const Sphere*>(b->shape.get())) s.radius = sp->radius;
-			else {
+			if (const Sphere* sp = dynamic_cast<const Sphere*>(b->shape.get())) {
+				s.radius = sp->radius;
+				s.sphere = true;
+			} else {
 				s.el = flexa::elementOf(b->shape.get());
 				if (s.el.nNodes) s.radius = s.el.radius;
 				if (s.el.fac) {
@@ -278,7 +281,19 @@ namespace {
 	}
 }
 
-Real FlexTimeStepper::omega2Contacts() const
+Real FlexTimeStepper::omega2Contacts() const { return omega2ContactsImpl(nullptr); }
+
+boost::python::list FlexTimeStepper::unreachablePairs() const
+{
+	std::vector<std::pair<Body::id_t, Body::id_t>> out;
+	omega2ContactsImpl(&out);
+	boost::python::list l;
+	for (const auto& pr : out)
+		l.append(boost::python::make_tuple(pr.first, pr.second));
+	return l;
+}
+
+Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut) const
 {
 	// Gershgorin rows of M^-1/2 K M^-1/2 for all contact springs. A contact couples the
 	// entries g = (-w on side 1, +w on side 2) with stiffness k = max(kn, ks) in any
@@ -303,6 +318,81 @@ Real FlexTimeStepper::omega2Contacts() const
 		if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get()))
 			for (const auto& f : il->lawDispatcher->functors)
 				if (!law) law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get());
+	// Potential pairs that cannot touch before the collider runs again are left out: the collider
+	// re-runs once a point leaves the sweep box of its bound, and this estimate is then made again
+	// before the integrator uses the step (see flex::cannotTouch). Only with an
+	// InsertionSortCollider (the guarantee is its trigger) and for shapes whose points are known:
+	// spheres (clump members too) and elements; everything else counts as before.
+	bool canSkip = skipUnreachable;
+	if (canSkip) {
+		canSkip = false;
+		for (const auto& e : scene->engines)
+			if (dynamic_cast<const InsertionSortCollider*>(e.get())) canSkip = true;
+	}
+	long skipped = 0;
+	// the defining points of a body (sphere centre, element nodes) and how far they may still
+	// travel before the collider runs; false: unknown (no bound yet, another shape)
+	// per body, once per estimate (on first use): its points, how far they may still travel, and
+	// the size of their coordinates (for the round-off margin)
+	struct Side {
+		signed char state = 0; // 0: not computed yet, 1: known, -1: unknown
+		int         n     = 0;
+		Real        reach = 0, size = 0;
+		Vector3r    x[3];
+	};
+	std::vector<Side> sides(canSkip ? sb.size() : 0);
+	auto              sideOf = [&](Body::id_t id) -> const Side& {
+                Side& sd = sides[id];
+                if (sd.state) return sd;
+                sd.state      = -1;
+                const Body* b = (*scene->bodies)[id].get();
+                if (!b->bound) return sd;
+                const Real            sweep = b->bound->sweepLength;
+                const flexa::Element& el    = sb[id].el;
+                if (el.nNodes) {
+                        const Vector3r* ref[3] { nullptr, nullptr, nullptr };
+                        if (el.cyl) {
+                                ref[0] = &el.cyl->boundRef1;
+                                ref[1] = &el.cyl->boundRef2;
+                        } else {
+                                ref[0] = &el.fac->boundRef1;
+                                ref[1] = &el.fac->boundRef2;
+                                ref[2] = &el.fac->boundRef3;
+                        }
+                        for (int a = 0; a < el.nNodes; ++a) {
+                                const State* st = flexa::stateOf(scene, el.nodes[a]);
+                                if (!st) return sd;
+                                sd.x[a]  = st->pos;
+                                sd.reach = std::max(sd.reach, flex::reachableDistance(sd.x[a], *ref[a], sweep));
+                                sd.size  = std::max(sd.size, sd.x[a].cwiseAbs().maxCoeff());
+                        }
+                        sd.n = el.nNodes;
+                } else if (sb[id].sphere) {
+                        sd.x[0]  = b->state->pos;
+                        sd.reach = flex::reachableDistance(sd.x[0], b->bound->refPos, sweep);
+                        sd.size  = sd.x[0].cwiseAbs().maxCoeff();
+                        sd.n     = 1;
+                } else
+                        return sd;
+                sd.state = 1;
+                return sd;
+	};
+	auto cannotTouchBeforeCollider = [&](Body::id_t i1, Body::id_t i2) -> bool {
+		const Side &s1 = sideOf(i1), &s2 = sideOf(i2);
+		if (s1.state < 0 || s2.state < 0) return false;
+		const int      n1 = s1.n, n2 = s2.n;
+		const Vector3r *x1 = s1.x, *x2 = s2.x;
+		const Real     reach1 = s1.reach, reach2 = s2.reach, size = std::max(s1.size, s2.size);
+		// cheap first: the points' boxes farther apart than both radii and both reaches
+		Vector3r p[6];
+		for (int a = 0; a < n1; ++a)
+			p[a] = x1[a];
+		for (int a = 0; a < n2; ++a)
+			p[n1 + a] = x2[a];
+		if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, sb[i1].radius + sb[i2].radius + reach1 + reach2))) return true;
+		const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
+		return flex::cannotTouch(gap, reach1, reach2, size);
+	};
 	for (const auto& I : *scene->interactions) {
 		if (I->isReal()) {
 			const NormShearPhys* ph = dynamic_cast<const NormShearPhys*>(I->phys.get());
@@ -374,6 +464,11 @@ Real FlexTimeStepper::omega2Contacts() const
 		if (r1 <= 0) r1 = r2;
 		if (r2 <= 0) r2 = r1;
 		if (!(r1 > 0)) continue;
+		if (canSkip && cannotTouchBeforeCollider(i1, i2)) {
+			++skipped;
+			if (skippedOut) skippedOut->emplace_back(i1, i2);
+			continue;
+		}
 		const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
 		const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
 		const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
@@ -410,6 +505,7 @@ Real FlexTimeStepper::omega2Contacts() const
 				if (!bs[s]->el.fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
+	skippedCache        = skipped;
 	Real w2             = 0;
 	stiffestContactBody = -1;
 	for (size_t i = 0; i < row.size(); ++i)
@@ -454,6 +550,7 @@ void FlexTimeStepper::action()
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
 	dtCritical           = critical();
 	stiffestBody         = stiffestCache;
+	skippedPairs         = skippedCache;
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;
 }
 

@@ -80,11 +80,20 @@ def test_local_damping_shortens_the_step_and_keeps_a_fine_cantilever_stable(scen
     assert_rel(-O.bodies[s["tip"]].state.pos[2], 1.0 / (3 * 200e9 * I), 1e-3, "20-element cantilever")
 
 
-def _gershgorin_spheres():
+def _reachable(b):
+    """How far a sphere's centre can still travel before the collider runs again: to the far
+    corner of the box of half-width sweepLength around the position its bound was built at."""
+    d = b.state.pos - b.bound.refPos
+    return math.sqrt(sum((abs(d[k]) + b.bound.sweepLength) ** 2 for k in range(3)))
+
+
+def _gershgorin_spheres(skip_unreachable=True):
     """The contact bound of FlexTimeStepper.omega2Contacts for a scene of spheres, written out
     independently: each contact (real: its kn, ks; potential: the stiffness Ip2_FrictMat gives,
     kn = 2 k1 k2 / (k1 + k2) with k = E r, ks likewise with E nu r) adds k m_a^-1/2 (m_a^-1/2 +
-    m_b^-1/2) to the translational row of a and 2 ks l^2 / I_a to its rotational row."""
+    m_b^-1/2) to the translational row of a and 2 ks l^2 / I_a to its rotational row. A
+    potential pair whose gap exceeds what both centres can still travel is left out
+    (skip_unreachable, as FlexTimeStepper.skipUnreachable)."""
     row, rot = {}, {}
 
     def inv_sqrt_mass(b):
@@ -97,6 +106,9 @@ def _gershgorin_spheres():
                 continue
             k, ks, lever = max(i.phys.kn, i.phys.ks), i.phys.ks, [i.geom.refR1, i.geom.refR2]
         else:
+            gap = (b[0].state.pos - b[1].state.pos).norm() - b[0].shape.radius - b[1].shape.radius
+            if skip_unreachable and gap > (_reachable(b[0]) + _reachable(b[1])) * (1 + 1e-6):
+                continue
             kk = [x.material.young * x.shape.radius for x in b]
             ss = [x.material.young * x.material.poisson * x.shape.radius for x in b]
             kn, ks = 2 * kk[0] * kk[1] / (kk[0] + kk[1]), 2 * ss[0] * ss[1] / (ss[0] + ss[1])
@@ -125,14 +137,94 @@ def test_contact_bound_of_a_granular_pack_matches_an_independent_sum(scene):
         sphere((x + rng.uniform(-0.005, 0.005), y + rng.uniform(-0.005, 0.005), z), r,
                young=rng.choice([1e8, 3e8]), density=rng.choice([2000.0, 2650.0]))
     O.engines = yf.engines(verlet=0.004)
-    n_real = n_potential = 0
+    st = O.engines[-2]
+    n_real = n_potential = n_skipped = 0
     for _ in range(40):
         scenes.advance(400)
         n_real = max(n_real, sum(1 for i in O.interactions.all(False) if i.isReal))
         n_potential = max(n_potential, sum(1 for i in O.interactions.all(False) if not i.isReal))
-        ref, got = _gershgorin_spheres(), O.engines[-2].omega2Contacts()
-        if ref == 0:  # no contact with a moving sphere yet
-            assert got == 0
+        n_skipped = max(n_skipped, len(st.unreachablePairs()))
+        for skip in (True, False):
+            st.skipUnreachable = skip
+            ref, got = _gershgorin_spheres(skip), st.omega2Contacts()
+            if ref == 0:  # no contact with a moving sphere yet
+                assert got == 0
+            else:
+                assert_rel(got, ref, 1e-12, f"sphere contact bound (skipUnreachable={skip})")
+        st.skipUnreachable = True
+    assert n_real > 20 and n_potential > 20 and n_skipped > 5, (n_real, n_potential, n_skipped)
+
+
+def _check_left_out_pairs(steps):
+    """Run `steps` steps. After each, ask the stepper which potential pairs it would leave out
+    now; while the collider has not run again, none of them may be a contact (active) at any
+    later step. Returns (claims checked, pairs left out that touched after a collider run)."""
+    st = next(e for e in O.engines if e.label == "flexDt")
+    col = next(e for e in O.engines if e.label == "collider")
+    claims, epoch, checked, later = set(), col.numAction, 0, set()
+    everLeftOut = set()
+    for _ in range(steps):
+        O.step()
+        touching = {(i.id1, i.id2) for i in O.interactions if i.isReal and getattr(i.geom, "active", True)}
+        touching |= {(b, a) for a, b in touching}
+        if col.numAction != epoch:  # the collider ran: the estimate was redone, claims start afresh
+            later |= touching & everLeftOut
+            claims, epoch = set(), col.numAction
         else:
-            assert_rel(got, ref, 1e-12, "sphere contact bound")
-    assert n_real > 20 and n_potential > 20, (n_real, n_potential)
+            bad = claims & touching
+            assert not bad, f"left out of the step estimate but touching before the collider ran: {sorted(bad)[:5]}"
+            checked += len(claims)
+        now = set(st.unreachablePairs())
+        claims |= now
+        everLeftOut |= now
+    return checked, len(later)
+
+
+def _net_target():
+    scenes.net_impact(n=10, spacing=0.05, wire_radius=0.002, sphere_radius=0.06, speed=10.0)
+    return (0.05, 0.4), 0.012, 0.15
+
+
+def _sheet_target():
+    from yadeflex import membrane_scenes
+    s = membrane_scenes.sheet_impact(n=10, drop=0.0)
+    O.bodies[s["sphere"]].state.vel = (0, 0, -6.0)
+    return (0.1, 0.9), 0.02, 0.03
+
+
+@pytest.mark.parametrize("target,min_checked", [(_net_target, 10000), (_sheet_target, 1000)], ids=["net", "sheet"])
+def test_pairs_left_out_of_the_estimate_do_not_touch_before_the_collider_runs(scene, target, min_checked):
+    """The stepper leaves out potential contacts whose gap exceeds how far both sides can still
+    travel inside their bounds' sweep: none of them may touch before the collider runs again
+    (when the estimate is redone). A net hit at 10 m/s by a ball, or a sheet hit at 6 m/s, each
+    with a shower of 40 small balls (sphere-sphere, sphere-cylinder, cylinder-cylinder,
+    sphere-facet pairs); the rule must also leave pairs out (the check is not vacuous) and some of
+    them must touch later (it is tested near its edge)."""
+    import random
+    (lo, hi), r, z0 = target()
+    rnd = random.Random(5)
+    for k in range(40):
+        sphere((lo + (hi - lo) * rnd.random(), lo + (hi - lo) * rnd.random(), z0 + 0.3 * rnd.random()), r,
+               velocity=(rnd.uniform(-2, 2), rnd.uniform(-2, 2), -rnd.uniform(2, 8)))
+    O.engines = yf.engines()
+    checked, touched_later = _check_left_out_pairs(3000)
+    assert checked > min_checked
+    assert touched_later > 0
+
+
+def test_leaving_out_unreachable_pairs_lengthens_the_step_of_a_stretched_panel(scene):
+    """A TECCO panel pulled apart: its wires never touch, so the step is set by the wires
+    themselves (bonds) once the potential wire-wire pairs are left out; counting them all
+    bounds it by a contact stiffness E r far above the legs' EA/L."""
+    from yadeflex import tensile, wire, mesh
+    cal = mesh.TECCO_MESH_CALIBRATION
+    tensile.mesh_panel_scene(width=0.5, height=0.5, direction="longitudinal", speed=0.05, damping=0.2,
+                             material=wire.tecco_wire(slack_scale=cal["slack_scale"], force_ratio=cal["force_ratio"]))
+    st = next(e for e in O.engines if e.label == "flexDt")
+    O.run(100, True)
+    assert st.skippedPairs > 0 and not any(i.isReal for i in O.interactions)
+    assert st.omega2Contacts() == 0  # every potential pair left out
+    bonds_only = 2 / math.sqrt(st.omega2Bonds() * 1.2)  # (1 + damping) x bonds, as critical() adds them
+    assert_rel(st.critical(), bonds_only, 1e-12, "critical step of the stretched panel")
+    st.skipUnreachable = False
+    assert st.critical() < 0.5 * bonds_only
