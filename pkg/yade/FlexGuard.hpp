@@ -41,6 +41,13 @@ class FlexGuard : public GlobalEngine {
 	size_t                  cachedBodyCount = 0;
 	long                    lastWorkIter    = -1;
 	size_t                  lastEnergyCount = 0; // number of O.energy terms at the last check
+	// Leap-frog energy identity (see FlexGuard.cpp): velocities at the previous step and the
+	// external work of the step just taken, which the booked energies do not include yet
+	std::vector<Vector3r>   prevVel, prevAngVel;
+	long                    prevVelIter     = -2;
+	Real                    lastWorkIncrement = 0, startIncrement = 0;
+	Real                    kineticCorrection() const;
+	void                    storeVelocities();
 	void                    refresh();
 	void                    addExternalWork();
 	[[noreturn]] void       fail(const std::string& what, const std::vector<Body::id_t>& ids);
@@ -62,7 +69,7 @@ public:
 		((long, detectedIter, -1, Attr::readonly, "O.iter at detection (-1: none)"))
 		((Real, energyStart, NaN, Attr::readonly, "O.energy.total() at the first check after a step has booked energy (taken again after O.energy.clear()) [J]"))
 		((Real, energyScale, 0, Attr::readonly, "Largest sum of |O.energy terms| + |externalWork| seen so far [J]"))
-		((Real, energyResidual, 0, Attr::readonly, "Energy created without external work at the last check, (total - energyStart) - externalWork [J]"))
+		((Real, energyResidual, 0, Attr::readonly, "Energy created without external work at the last check, (total - energyStart) - externalWork, taken at the last step's positions: kinetic energy in the form of the leap-frog identity, 1/2 m v_{n-1/2}.v_{n+1/2}, and the work of the step just taken left to the next check (see FlexGuard.cpp) [J]"))
 		((Real, externalWork, 0, Attr::readonly, "Work done on the scene by moving blocked DOFs and permanent forces since energyStart was taken [J]"))
 		((Real, maxStepSeen, 0, Attr::readonly, "Largest |v| dt / contact radius at the last check [-]")),
 		,

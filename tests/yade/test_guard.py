@@ -142,25 +142,30 @@ def test_energy_injected_by_a_pyrunner_is_caught(scene):
     assert _all_finite()
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 6): the balance of an undamped bar under a suddenly applied permanent force "
-                   "oscillates by up to 17% of its energy scale (residual 0.036 J of 0.25 J after 3000 steps, its kinetic energy "
-                   "growing); not yet known whether the guard's external-work accounting or the bar's integration is at fault")
 def test_permanent_force_and_driven_body_work_is_booked(scene):
     """External work is not 'created' energy: a bar pulled by a permanent force, then by a
-    driven end at constant speed, runs through with its balance closed."""
+    driven end at constant speed, runs through with its balance closed.
+    Suddenly applied force, undamped, at the default step: the leap-frog identity (kinetic
+    energy 1/2 m v_{n-1/2}.v_{n+1/2}, work up to x_n) holds to round-off for this linear bar
+    (with YADE's 1/2 m v^2 the balance swung by 17% of its energy). Driven end: the driver's work
+    is counted with the force at the start of each step, so the sum lags the exact work by at
+    most 1/2 N_max v dt (N_max the largest axial force)."""
     s = scenes.cantilever(segments=5, length=0.5, radius=0.005, load="axial", force=2000.0, damping=0.0, gravity=0.0)
     O.trackEnergy = True
     for _ in range(3000):
         O.step()
     g = _guard()
     assert g.message == "" and g.externalWork > 0
-    assert abs(g.energyResidual) < 0.02 * g.externalWork
+    assert abs(g.energyResidual) < 1e-9 * g.energyScale
     O.forces.setPermF(s["tip"], Vector3(0, 0, 0))
     tip = O.bodies[s["tip"]].state
     tip.blockedDOFs = "xyzXYZ"
-    tip.vel = Vector3(0.5, 0, 0)
-    w1 = g.externalWork
+    v = 0.5
+    tip.vel = Vector3(v, 0, 0)
+    w1, n_max = g.externalWork, 0.0
     for _ in range(3000):
         O.step()
+        n_max = max(n_max, max(abs(O.bodies[c].shape.axialForce) for c in s["cylinders"]))
     assert g.message == "" and g.externalWork > w1
-    assert abs(g.energyResidual) < 0.02 * g.externalWork
+    assert n_max > 1e5  # the bar is loaded hard (3% strain)
+    assert 0 < abs(g.energyResidual) <= 0.5 * n_max * v * O.dt * (1 + 1e-6) + 1e-9 * g.energyScale
