@@ -665,12 +665,24 @@ void FlexNewtonIntegrator::action()
 		}
 		const Vector3r f = scene->forces.getForce(id);
 		const Vector3r m = scene->forces.getTorque(id);
+		const unsigned blocked = st->blockedDOFs;
 		if (track) {
 			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
-			// included), kinetic energy before the update, work of gravity -m g.v dt
-			if (damping != 0 && st->isDamped) {
-				scene->energy->add(st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
-				scene->energy->add(st->angVel.cwiseAbs().dot(m.cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
+			// included), kinetic energy before the update, work of gravity -m g.v dt. Unlike
+			// NewtonIntegrator, damping is booked on free DOFs only: a blocked (driven) DOF is not
+			// damped, and booking |v||F| c dt there would claim energy nothing dissipated.
+			if (damping != 0 && st->isDamped && blocked != State::DOF_ALL) {
+				if (blocked == 0) { // the common case, the same IEEE operations as NewtonIntegrator
+					scene->energy->add(st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
+					scene->energy->add(st->angVel.cwiseAbs().dot(m.cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
+				} else {
+					Real e = 0;
+					for (int i = 0; i < 3; ++i) {
+						if (!(blocked & State::axisDOF(i, false))) e += std::abs(st->vel[i]) * std::abs(f[i] + st->mass * gravity[i]);
+						if (!(blocked & State::axisDOF(i, true))) e += std::abs(st->angVel[i]) * std::abs(m[i]);
+					}
+					scene->energy->add(e * damping * dt, "nonviscDamp", nonviscDampIx, false);
+				}
 			}
 			const Real Et = 0.5 * st->mass * st->vel.squaredNorm(), Er = 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
 			if (!kinSplit) scene->energy->add(Et + Er, "kinetic", kinEnergyIx, true);
@@ -680,7 +692,6 @@ void FlexNewtonIntegrator::action()
 			}
 			scene->energy->add(-gravity.dot(st->vel) * st->mass * dt, "gravWork", fieldWorkIx, false);
 		}
-		const unsigned blocked = st->blockedDOFs;
 		if (blocked != State::DOF_ALL) {
 			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
 			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
