@@ -26,7 +26,8 @@
 #   - outcome: 'blown up (non-finite)' when O.energy.total() or any body's position or velocity
 #     (scanned every SCAN steps) is not finite; 'blown up (energy created)' when R > BLOWUP x S
 #     for CONFIRM steps in a row, or up to the end of the run (a step load's first steps exceed
-#     BLOWUP x S while S is tiny: such transient episodes are counted in the detail); for the damping module,
+#     BLOWUP x S while S is tiny: such transient episodes are counted in the detail), or when
+#     the largest |R| exceeds BLOWUP x the run's largest S at the end; for the damping module,
 #     'stopped by the module check' when the time step falls below 1% of its value at the start
 #     (scripts/damping_module.py --min-dt-fraction); 'stable' otherwise. Runs stop at the first
 #     of these.
@@ -295,6 +296,9 @@ def run_case(build, factor, group, scene, params, quiet=False):
         outcome, blow_step = "blown up (energy created)", first
         detail = f"residual > {BLOWUP} x scale from step {pending} to the end ({steps})"
     max_res = max_abs / scale if scale > 0 else 0.0
+    if outcome == "stable" and max_res > BLOWUP and first is not None:  # episodes that reached half of the run's largest scale
+        outcome, blow_step = "blown up (energy created)", first
+        detail = f"energy created reached {100 * max_res:.0f}% of the run's largest energy scale, in transient episodes"
     if case.booked:
         notes.append(f"residual without the correction for damping booked on driven DOFs: {100 * max_abs_raw / scale:.3g}%")
     detail = "; ".join([x for x in [detail] + notes if x])
@@ -410,7 +414,7 @@ def plot(rows, path):
         rs = sorted((r for r in rows if (r["scene"], r["params"]) == k), key=lambda r: r["factor"])
         if len({r["factor"] for r in rs}) < 2:
             continue
-        col = f"C{n % 10}"
+        col = plt.cm.tab20(n % 20)
         fs = [r["factor"] for r in rs if stable(r)]
         ax.plot(fs, [max(r["max_residual"], 1e-7) for r in rs if stable(r)], "o-", color=col, label=f"{k[0]} {k[1]}".strip())
         bad = [r for r in rs if not stable(r)]
@@ -420,7 +424,7 @@ def plot(rows, path):
     ax.axhline(BLOWUP, color="r", lw=0.8, ls="--")
     ax.set(xscale="log", yscale="log", xlabel="time step / estimated critical step (FlexTimeStepper.dtCritical)",
            ylabel="max |energy residual| / energy scale", title="stability: x = blown up (non-finite or energy created > 50%)")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="lower right")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -433,9 +437,14 @@ def main():
     ap.add_argument("--quick", action="store_true", help="a few cases, no bisection (a few minutes)")
     ap.add_argument("--groups", default="dt,speed,material,rupture")
     ap.add_argument("--no-default-module", action="store_true", help="skip the default (full-size) module speeds")
+    ap.add_argument("--plot-only", action="store_true", help="redraw results/stability.png from results/stability.csv")
     me = next((k for k, a in enumerate(sys.argv) if os.path.basename(a) == "stability.py"), 0)
     a = ap.parse_args(sys.argv[me + 1:])
     groups = a.groups.split(",")
+    if a.plot_only:
+        with open(os.path.join(RESULTS, "stability.csv")) as f:
+            rows = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"])) for r in csv.DictReader(f)]
+        return plot(rows, os.path.join(RESULTS, "stability.png"))
     from machine import machine_line
     line = machine_line(yade.config.version, O.numThreads)
     print(line, end="")
