@@ -36,7 +36,7 @@
 #
 # Writes bench/results/stability.csv (one row per run), stability_margins.csv,
 # stability.png (max |residual| against the time-step factor, per scene, blow-ups marked) and
-# stability_machine.txt; prints the tables. See bench/STABILITY.md.
+# stability_machine.txt (stability_quick* with --quick); prints the tables. See bench/STABILITY.md.
 import argparse
 import builtins
 import csv
@@ -72,6 +72,7 @@ MIN_DT_FRACTION = 0.01  # the damping module's own check (scripts/damping_module
 FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)
 BISECT_TOL = 0.05
 RESULTS = os.path.join(BENCH, "results")
+OUT = [""]          # file name suffix: "_quick" in --quick mode (the full results stay)
 
 
 # ---------------------------------------------------------------- scenes
@@ -371,19 +372,19 @@ def print_row(r):
 def write(rows, margins, line):
     os.makedirs(RESULTS, exist_ok=True)
     keys = list(rows[0].keys())
-    with open(os.path.join(RESULTS, "stability.csv"), "w", newline="") as f:
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
         w.writeheader()
         w.writerows(rows)
-    with open(os.path.join(RESULTS, "stability_margins.csv"), "w", newline="") as f:
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}_margins.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["scene", "params", "last_stable_factor", "first_unstable_factor", "stable_at_1", f"residual_below_{ACCURATE:g}_up_to"])
         for (scene, params), (ok, bad) in margins.items():
             w.writerow([scene, params, ok if ok is not None else "", bad if bad is not None else "", *margin_extras(rows, scene, params)])
-    with open(os.path.join(RESULTS, "stability_machine.txt"), "w") as f:
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}_machine.txt"), "w") as f:
         f.write(line)
     try:
-        plot(rows, os.path.join(RESULTS, "stability.png"))
+        plot(rows, os.path.join(RESULTS, f"stability{OUT[0]}.png"))
     except Exception as e:  # the numbers are in the CSV; never lose them over a plot
         print(f"(plot failed: {e})")
 
@@ -441,6 +442,7 @@ def main():
     me = next((k for k, a in enumerate(sys.argv) if os.path.basename(a) == "stability.py"), 0)
     a = ap.parse_args(sys.argv[me + 1:])
     groups = a.groups.split(",")
+    OUT[0] = "_quick" if a.quick else ""
     if a.plot_only:
         with open(os.path.join(RESULTS, "stability.csv")) as f:
             rows = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"])) for r in csv.DictReader(f)]
