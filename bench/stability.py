@@ -1,0 +1,526 @@
+# Stability suite (issue 6): time-step margins, impact speeds, stiff and soft materials, rupture
+# (GPL-2.0-or-later).
+#
+#     yade-double -n -j1 -x bench/stability.py [--quick] [--groups dt,speed,material,rupture] [--no-default-module]
+#
+# Every case is a scene of yadeflex (the builders the tests and benchmarks use) run in this one
+# process, one after the other, with these common rules:
+#   - time step: FlexTimeStepper keeps estimating the critical step (safety 1, its usual interval
+#     and collider triggers); a PyRunner right after it sets O.dt = factor x flexDt.dtCritical at
+#     every step, so that factors above 1 can be run. yf.engines() uses 0.5 (timestep_safety), the
+#     damping module ModuleParams.timestep_safety (0.5).
+#   - guard: a FlexGuard with its default settings is the first engine. When it stops the run, its
+#     step and message are recorded, it is removed and the run goes on without it, so that every
+#     row says both what the guard did and what the run really did (a guard stop followed by a
+#     stable run is a false alarm).
+#   - energy balance: O.trackEnergy; residual R = (O.energy.total() - total after the first step)
+#     - W_ext, W_ext the external work (cantilever: the permanent tip force times the tip
+#     displacement; tensile panel: -sum F.v dt of the driven nodes, summed every step after the
+#     integrator; all other scenes have none: gravity is booked in O.energy as gravWork); the
+#     scale S = largest (sum over O.energy terms of |E_k| + |W_ext|) seen so far. Checked every
+#     CHECK steps (a blow-up's first step is known to CHECK steps). The table's residual is the
+#     largest |R| of the run over the largest S of the run, with the sign R had there (+: energy
+#     created). Panel only: R also discounts the Cundall damping FlexNewtonIntegrator books on the
+#     driven (blocked) DOFs, where no damping acts (a bookkeeping error, see STABILITY.md; the
+#     uncorrected value is in the row's detail).
+#   - outcome: 'blown up (non-finite)' when O.energy.total() or any body's position or velocity
+#     (scanned every SCAN steps) is not finite; 'blown up (energy created)' when R > BLOWUP x S
+#     for CONFIRM steps in a row, or up to the end of the run (a step load's first steps exceed
+#     BLOWUP x S while S is tiny: such transient episodes are counted in the detail), or when
+#     the largest |R| exceeds BLOWUP x the run's largest S at the end; for the damping module,
+#     'stopped by the module check' when the time step falls below 1% of its value at the start
+#     (scripts/damping_module.py --min-dt-fraction); 'stable' otherwise. Runs stop at the first
+#     of these.
+#   - margins (group dt): factors 0.5, 0.75, 1, 1.25, 1.5, 2, 3, 4, 6 up to the first unstable
+#     one, then bisection (geometric) between the last stable and the first unstable to 5%.
+#
+# Writes bench/results/stability.csv (one row per run), stability_margins.csv,
+# stability.png (max |residual| against the time-step factor, per scene, blow-ups marked) and
+# stability_machine.txt (stability_quick* with --quick); prints the tables. See bench/STABILITY.md.
+import argparse
+import builtins
+import csv
+import dataclasses
+import functools
+import math
+import os
+import sys
+import time
+
+BENCH = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if os.path.basename(a) == "stability.py"), os.path.join(os.getcwd(), "bench"))
+sys.path.insert(0, BENCH)
+sys.path.insert(0, os.path.join(os.path.dirname(BENCH), "py"))
+
+import yade  # noqa: E402
+from yade import O  # noqa: E402
+from yade.minieigenHP import Vector3  # noqa: E402
+from yade.wrapper import PyRunner, FlexGuard  # noqa: E402
+
+from yadeflex import scenes, membrane_scenes, tensile  # noqa: E402
+from yadeflex import membrane as M  # noqa: E402
+from yadeflex.materials import steel  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder  # noqa: E402
+
+CHECK = 10          # steps between energy checks
+SCAN = 200          # steps between scans of every body for non-finite values and the largest speed
+BLOWUP = 0.5        # energy created above this fraction of the energy scale: blown up
+CONFIRM = 1000      # ... if it stays above for this many steps (or goes non-finite); a step load's first steps exceed it
+MIN_STEPS = 5000    # every run lasts at least this many steps
+FALSE_ALARM = 0.1   # a guard stop of a run that stays stable with |residual| below this: a false alarm
+ACCURATE = 0.05     # margins also give the largest factor up to which every |residual| stays below this
+MIN_DT_FRACTION = 0.01  # the damping module's own check (scripts/damping_module.py)
+FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)
+BISECT_TOL = 0.05
+RESULTS = os.path.join(BENCH, "results")
+OUT = [""]          # file name suffix: "_quick" in --quick mode (the full results stay)
+
+
+# ---------------------------------------------------------------- scenes
+# Each builder sets up O (engines from yadeflex) and returns a Case: how long to run and what
+# external work and stop condition the scene has.
+
+@dataclasses.dataclass
+class Case:
+    t_end: float = math.inf        # simulated time [s] after the first step
+    max_steps: int = 10 ** 9
+    min_steps: int = MIN_STEPS     # run at least this many steps (an instability needs steps to grow)
+    work: object = None            # callable: external work since the start [J] (or None)
+    booked: object = None          # callable: energy O.energy books that no mechanism dissipates [J] (or None), see panel()
+    per_step: object = None        # callable run by a PyRunner after the integrator (or None)
+    done: object = None            # callable: True when the scene's run is complete
+    module: bool = False           # apply the damping module's time-step collapse check
+    info: dict = dataclasses.field(default_factory=dict)
+
+
+def cantilever(damping=0.0, steps=20000):
+    """Steel cantilever, 10 cylinders, 1 m, r = 10 mm, clamped; a 100 N tip force applied at
+    once (undamped: it vibrates for ever)."""
+    s = scenes.cantilever(segments=10, force=100.0, damping=damping)
+    tip = O.bodies[s["tip"]]
+    z0 = tip.state.pos[2]
+    return Case(max_steps=steps, work=lambda: -100.0 * (tip.state.pos[2] - z0))
+
+
+def net(speed=5.0, scale=1.0, strength=math.inf, t_end=0.03):
+    """scenes.net_impact: 20 x 20 steel wires 50 mm apart, r = 2 mm, border clamped; sphere
+    r = 0.1 m, 2500 kg/m3 at `speed`; wire E and sphere contact modulus x scale; optional
+    tensile strength [Pa] of the wires (rupture)."""
+    mat = steel(friction_deg=30.0, young=200e9 * scale, tensile_strength=strength)
+    s = scenes.net_impact(speed=speed, sphere_young=5e9 * scale, material=mat)
+    return Case(t_end=t_end, info=dict(sphere=s["sphere"]))
+
+
+def sheet(scale=1.0, t_end=0.15):
+    """membrane_scenes.sheet_impact: 1 x 1 m geotextile-like sheet (16 x 16 cells, E t =
+    250 kN/m x scale, 0.3 kg/m2), sphere r = 0.1 m released 10 mm above it; contact moduli of
+    the sheet and the sphere x scale."""
+    orig = M.membrane_material
+    M.membrane_material = functools.partial(orig, contact_young=1e9 * scale)
+    try:
+        s = membrane_scenes.sheet_impact(stiffness=250e3 * scale)
+    finally:
+        M.membrane_material = orig
+    O.bodies[s["sphere"]].material.young = 1e8 * scale
+    return Case(t_end=t_end)
+
+
+def panel(size=0.5, speed=1.0, max_elongation=0.5, damping=0.2):
+    """tensile.mesh_panel_scene: TECCO G65/3 panel size x size m pulled along the spirals at
+    `speed` [m/s] (local damping 0.2 by default, as the builder) until links have ruptured and the edge force
+    fell below 30% of its peak (full rupture), or max_elongation."""
+    s = tensile.mesh_panel_scene(width=size, height=size, direction="longitudinal", speed=speed, damping=damping)
+    ax, driven = s["axis"], s["driven"]
+    x0 = O.bodies[driven[0]].state.pos[ax]
+    el = next(e for e in O.engines if e.label == "flexElements")
+    newton = next(e for e in O.engines if e.label == "newton")
+    st = dict(work=0.0, peak=0.0, booked=0.0)
+
+    def per_step():
+        fv = [(O.forces.f(i), O.bodies[i].state.vel) for i in driven]
+        st["work"] -= sum(f.dot(v) for f, v in fv) * O.dt
+        # FlexNewtonIntegrator books Cundall damping |v_i||F_i| c dt on every component, blocked
+        # ones included, where no damping acts: on the driven edge this is energy booked as
+        # dissipated that nothing dissipated (pkg/yade/FlexEngines.cpp, see STABILITY.md)
+        st["booked"] += newton.damping * O.dt * sum(sum(abs(f[k]) * abs(v[k]) for k in range(3)) for f, v in fv)
+
+    def done():
+        f = -sum(O.forces.f(i)[ax] for i in driven)
+        st["peak"] = max(st["peak"], f)
+        e = (O.bodies[driven[0]].state.pos[ax] - x0) / s["length"]
+        return (el.nRuptured > 0 and f < 0.3 * st["peak"]) or e >= max_elongation
+
+    return Case(work=lambda: st["work"], booked=lambda: st["booked"], per_step=per_step, done=done, info=dict(peak=st))
+
+
+def module(small=True, speed=None, t_cap=0.08):
+    """The damping module of the main job (scripts/damping_module.py): ModuleParams() or its
+    --small variant, cached fill, boulder with p.engines(p.damping). Runs until the boulder
+    moves up again (rebound) plus 5 ms, or t_cap [s] of simulated time."""
+    p = ModuleParams()
+    if small:
+        p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+    if speed is not None:
+        p.impact_velocity = speed
+    ids, _, _ = filled_module(p)
+    bid = add_boulder(p, ids)
+    O.engines = [FlexGuard(label="guard")] + p.engines(p.damping)
+    b = O.bodies[bid]
+    st = dict(rebound=None)
+
+    def done():
+        if st["rebound"] is None and b.state.vel[2] > 0:
+            st["rebound"] = O.time
+        return st["rebound"] is not None and O.time > st["rebound"] + 0.005
+
+    parts = {k: set(ids[key]) for k, key in (("grain", "grains"), ("lining node", "lining_nodes"), ("mesh node", "mesh_nodes"))}
+    return Case(t_end=t_cap, done=done, module=True, info=dict(boulder=bid, rebound=st, speed=p.impact_speed(), parts=parts))
+
+
+# ---------------------------------------------------------------- runner
+
+def _finite(v):
+    return all(math.isfinite(x) for x in v)
+
+
+def _first_nonfinite():
+    for b in O.bodies:
+        if b is not None and not (_finite(b.state.pos) and _finite(b.state.vel)):
+            return b.id
+    return None
+
+
+def _max_speed(parts=None):
+    """(largest speed, 'what #id' of that body) over bodies with their own DOFs; parts: {name: ids}
+    to say which part of a structure the body is (else its shape's class)."""
+    v, b = max(((b.state.vel.norm(), b) for b in O.bodies if b is not None and not b.isClumpMember), key=lambda x: x[0], default=(0.0, None))
+    if b is None:
+        return v, ""
+    name = next((k for k, ids in (parts or {}).items() if b.id in ids), type(b.shape).__name__)
+    return v, f"{name} #{b.id} ({1e3 * b.state.mass:.3g} g)"
+
+
+def _install(factor, case):
+    """Guard first (if the builder did not put one), stepper at safety 1, the dt setter after
+    it, the per-step hook after the integrator."""
+    eng = list(O.engines)
+    if not any(isinstance(e, FlexGuard) for e in eng):
+        eng.insert(0, FlexGuard(label="guard"))
+    k = next(i for i, e in enumerate(eng) if e.label == "flexDt")
+    ts = eng[k]
+    ts.safety = 1.0
+    builtins._stability_dt = lambda: setattr(O, "dt", factor * ts.dtCritical)
+    eng.insert(k + 1, PyRunner(command="_stability_dt()", iterPeriod=1, label="stabilityDt"))
+    if case.per_step is not None:
+        builtins._stability_step = case.per_step
+        eng.append(PyRunner(command="_stability_step()", iterPeriod=1, label="stabilityWork"))
+    O.engines = eng
+    return ts
+
+
+def run_case(build, factor, group, scene, params, quiet=False):
+    """Build a scene (build() returns a Case), run it at `factor` x the critical step; returns the row."""
+    case = build()
+    ts = _install(factor, case)
+    el = next((e for e in O.engines if e.label == "flexElements"), None)
+    O.trackEnergy = True
+    O.energy.clear()
+    t_wall = time.time()
+    O.step()
+    total0, t0, it0, dt0 = O.energy.total(), O.time, O.iter, O.dt
+    w0 = case.work() if case.work else 0.0
+    dtc0 = ts.dtCritical
+    scale, max_abs, max_abs_raw, vmax = 0.0, 0.0, 0.0, 0.0
+    outcome, detail, blow_step = "stable", "", None
+    pending, first, episodes, notes = None, None, 0, []  # energy created above BLOWUP x scale: since step, first seen, transient episodes
+    max_signed, vmax_body = 0.0, ""
+    guard_step, guard_msg = None, ""
+    steps = 0
+    while True:
+        if steps >= case.max_steps or (O.time - t0 >= case.t_end and steps >= case.min_steps):
+            break
+        try:
+            O.step()
+        except RuntimeError:
+            g = next((x for x in O.engines if isinstance(x, FlexGuard)), None)
+            if g is None or not g.message:
+                raise
+            guard_step, guard_msg = O.iter - it0, f"{g.message} [bodies {list(g.bodies)[:5]}]"
+            if not quiet:
+                print(f"    guard stopped step {guard_step}: {g.message}", flush=True)
+            O.engines = [x for x in O.engines if not isinstance(x, FlexGuard)]
+            continue
+        steps += 1
+        if steps % CHECK and steps < case.max_steps:
+            continue
+        tot = O.energy.total()
+        w = (case.work() - w0) if case.work else 0.0
+        if not (math.isfinite(tot) and math.isfinite(w)):
+            outcome, blow_step = "blown up (non-finite)", first or steps
+            bad = _first_nonfinite()
+            detail = f"O.energy.total() = {tot}" + (f"; first non-finite body #{bad}" if bad is not None else "")
+            break
+        scale = max(scale, sum(abs(O.energy[k]) for k in O.energy.keys()) + abs(w))
+        raw = (tot - total0) - w
+        res = raw - (case.booked() if case.booked else 0.0)
+        if abs(res) > max_abs:
+            max_abs, max_signed = abs(res), res
+        max_abs_raw = max(max_abs_raw, abs(raw))
+        if res > BLOWUP * scale and scale > 0:
+            if pending is None:
+                pending = steps
+                first = first or steps
+            elif steps - pending >= CONFIRM:
+                outcome, blow_step = "blown up (energy created)", first
+                detail = f"residual {res:.3g} J > {BLOWUP} x scale {scale:.3g} J for {CONFIRM} steps; stiffest body #{ts.stiffestBody}"
+                break
+        elif pending is not None:
+            episodes += 1
+            pending = None
+        if steps % SCAN == 0:
+            bad = _first_nonfinite()
+            if bad is not None:
+                outcome, blow_step, detail = "blown up (non-finite)", first or steps, f"first non-finite body #{bad}"
+                break
+            v, vb = _max_speed(case.info.get("parts"))
+            if v > vmax:
+                vmax, vmax_body = v, vb
+        if case.module and steps % 500 == 0 and O.dt < MIN_DT_FRACTION * dt0:
+            outcome = "stopped by the module check"
+            detail = f"time step collapsed from {dt0:.3g} s to {O.dt:.3g} s; set by body #{ts.stiffestBody}"
+            blow_step = steps
+            break
+        if case.done is not None and case.done() and steps >= case.min_steps:
+            break
+    if episodes:
+        notes.append(f"{episodes} transient episode(s) of energy created > {BLOWUP} x scale, the first from step {first}")
+    if pending is not None and outcome == "stable":
+        outcome, blow_step = "blown up (energy created)", first
+        detail = f"residual > {BLOWUP} x scale from step {pending} to the end ({steps})"
+    max_res = max_abs / scale if scale > 0 else 0.0
+    if outcome == "stable" and max_res > BLOWUP and first is not None:  # episodes that reached half of the run's largest scale
+        outcome, blow_step = "blown up (energy created)", first
+        detail = f"energy created reached {100 * max_res:.0f}% of the run's largest energy scale, in transient episodes"
+    if case.booked:
+        notes.append(f"residual without the correction for damping booked on driven DOFs: {100 * max_abs_raw / scale:.3g}%")
+    detail = "; ".join([x for x in [detail] + notes if x])
+    wall = time.time() - t_wall
+    if outcome == "stable" and guard_step is not None:  # the guard stopped a run that did not blow up
+        judged = "guard false alarm" if max_res < FALSE_ALARM else f"guard stop of a run that did not blow up but created {100 * max_res:.0f}%"
+        detail = judged + ("; " + detail if detail else "")
+    row = dict(group=group, scene=scene, params=params, factor=round(factor, 4), outcome=outcome, steps=steps,
+               sim_time_s=O.time - t0, wall_s=round(wall, 2), max_residual=max_res, blowup_step=blow_step if blow_step is not None else "",
+               guard_step=guard_step if guard_step is not None else "", guard_message=guard_msg, detail=detail,
+               residual_at_max=max_signed / scale if scale > 0 else 0.0,
+               broken=el.nRuptured if el is not None else 0, vmax=vmax, vmax_body=vmax_body, dt_critical_start=dtc0, dt_end=O.dt,
+               energy_scale=scale)
+    if case.info.get("boulder") is not None:
+        b = O.bodies[case.info["boulder"]]
+        row["detail"] = (row["detail"] + "; " if row["detail"] else "") + (
+            f"boulder vz end {b.state.vel[2]:+.2f} m/s, rebound at {1e3 * (case.info['rebound']['rebound'] - t0):.1f} ms"
+            if case.info["rebound"]["rebound"] is not None else f"boulder vz end {b.state.vel[2]:+.2f} m/s, no rebound")
+    if "peak" in case.info:
+        row["detail"] = (row["detail"] + "; " if row["detail"] else "") + f"peak edge force {case.info['peak']['peak'] / 1e3:.1f} kN"
+    if not quiet:
+        print_row(row)
+    return row
+
+
+def stable(row):
+    return row["outcome"] == "stable"
+
+
+def margin(build, group, scene, params, rows, factors=FACTORS, tol=BISECT_TOL):
+    """Run the factors up to the first unstable one, then bisect; returns (last stable, first unstable)."""
+    edge = [None, None]  # last stable, first unstable
+
+    def attempt(f):
+        r = run_case(build, f, group, scene, params)
+        rows.append(r)
+        edge[0 if stable(r) else 1] = f
+        return stable(r)
+
+    for f in factors:
+        if not attempt(f):
+            break
+    while edge[0] is None and edge[1] is not None and edge[1] > 0.05:  # unstable at the smallest factor: a bug; find the edge
+        attempt(0.5 * edge[1])
+    while None not in edge and edge[1] / edge[0] > 1 + tol:
+        attempt(math.sqrt(edge[0] * edge[1]))
+    return tuple(edge)
+
+
+# ---------------------------------------------------------------- output
+
+COLS = ("group", "scene", "params", "factor", "outcome", "steps", "sim_time_s", "wall_s", "residual_at_max", "blowup_step", "guard_step",
+        "broken", "vmax", "vmax_body", "detail")
+
+
+def _fmt(k, v):
+    if k in ("sim_time_s",) and v != "":
+        return f"{1e3 * v:.2f} ms"
+    if k == "residual_at_max":
+        return f"{100 * v:+.3g}%"
+    if k == "vmax":
+        return f"{v:.3g}"
+    return str(v)
+
+
+def print_row(r):
+    print("  " + " | ".join(_fmt(k, r[k]) for k in COLS if k not in ("group",)), flush=True)
+
+
+def write(rows, margins, line):
+    os.makedirs(RESULTS, exist_ok=True)
+    keys = list(rows[0].keys())
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}_margins.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["scene", "params", "last_stable_factor", "first_unstable_factor", "stable_at_1", f"residual_below_{ACCURATE:g}_up_to"])
+        for (scene, params), (ok, bad) in margins.items():
+            w.writerow([scene, params, ok if ok is not None else "", bad if bad is not None else "", *margin_extras(rows, scene, params)])
+    with open(os.path.join(RESULTS, f"stability{OUT[0]}_machine.txt"), "w") as f:
+        f.write(line)
+    try:
+        plot(rows, os.path.join(RESULTS, f"stability{OUT[0]}.png"))
+    except Exception as e:  # the numbers are in the CSV; never lose them over a plot
+        print(f"(plot failed: {e})")
+
+
+def margin_extras(rows, scene, params):
+    """(stable at factor 1?, largest factor up to which every run is stable with |residual| < ACCURATE)."""
+    rs = sorted((r for r in rows if r["scene"] == scene and r["params"] == params), key=lambda r: r["factor"])
+    at1 = [stable(r) for r in rs if r["factor"] == 1.0]
+    acc = ""
+    for r in rs:
+        if not (stable(r) and r["max_residual"] < ACCURATE):
+            break
+        acc = r["factor"]
+    return (at1[0] if at1 else "", acc)
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(9, 5.5))
+    keys = []
+    for r in rows:
+        k = (r["scene"], r["params"])
+        if k not in keys:
+            keys.append(k)
+    for n, k in enumerate(keys):
+        rs = sorted((r for r in rows if (r["scene"], r["params"]) == k), key=lambda r: r["factor"])
+        if len({r["factor"] for r in rs}) < 2:
+            continue
+        col = plt.cm.tab20(n % 20)
+        fs = [r["factor"] for r in rs if stable(r)]
+        ax.plot(fs, [max(r["max_residual"], 1e-7) for r in rs if stable(r)], "o-", color=col, label=f"{k[0]} {k[1]}".strip())
+        bad = [r for r in rs if not stable(r)]
+        ax.plot([r["factor"] for r in bad], [max(r["max_residual"], 1e-7) if math.isfinite(r["max_residual"]) and r["max_residual"] > 0 else 1.0
+                                             for r in bad], "x", color=col, ms=10, mew=2)
+    ax.axvline(1.0, color="k", lw=0.8, ls=":")
+    ax.axhline(BLOWUP, color="r", lw=0.8, ls="--")
+    ax.set(xscale="log", yscale="log", xlabel="time step / estimated critical step (FlexTimeStepper.dtCritical)",
+           ylabel="max |energy residual| / energy scale", title="stability: x = blown up (non-finite or energy created > 50%)")
+    ax.legend(fontsize=7, ncol=2, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------- suite
+
+def main():
+    ap = argparse.ArgumentParser(prog="stability.py")
+    ap.add_argument("--quick", action="store_true", help="a few cases, no bisection (a few minutes)")
+    ap.add_argument("--groups", default="dt,speed,material,rupture")
+    ap.add_argument("--no-default-module", action="store_true", help="skip the default (full-size) module speeds")
+    ap.add_argument("--plot-only", action="store_true", help="redraw results/stability.png from results/stability.csv")
+    me = next((k for k, a in enumerate(sys.argv) if os.path.basename(a) == "stability.py"), 0)
+    a = ap.parse_args(sys.argv[me + 1:])
+    groups = a.groups.split(",")
+    OUT[0] = "_quick" if a.quick else ""
+    if a.plot_only:
+        with open(os.path.join(RESULTS, "stability.csv")) as f:
+            rows = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"])) for r in csv.DictReader(f)]
+        return plot(rows, os.path.join(RESULTS, "stability.png"))
+    from machine import machine_line
+    line = machine_line(yade.config.version, O.numThreads)
+    print(line, end="")
+    print("columns: " + " | ".join(k for k in COLS if k != "group"))
+    rows, margins = [], {}
+    t_start = time.time()
+    q = a.quick
+    if "dt" in groups:
+        print("== time-step margins", flush=True)
+        dt_scenes = [("cantilever", "undamped, 100 N tip force", functools.partial(cantilever, 0.0, 5000 if q else 20000)),
+                     ("cantilever", "damping 0.8", functools.partial(cantilever, 0.8, 5000 if q else 20000)),
+                     ("net", "5 m/s", functools.partial(net, 5.0, t_end=0.01 if q else 0.03)),
+                     ("sheet", "drop 10 mm", functools.partial(sheet, t_end=0.05 if q else 0.15)),
+                     ("panel", "0.5 m, to rupture", functools.partial(panel)),
+                     ("module small", "4.43 m/s", functools.partial(module, True, None, 0.03 if q else 0.08))]
+        for scene, params, build in dt_scenes:
+            print(f"-- {scene} {params}", flush=True)
+            if q:
+                for f in (0.5, 1.0, 1.5, 3.0):
+                    rows.append(run_case(build, f, "dt", scene, params))
+            else:
+                margins[(scene, params)] = margin(build, "dt", scene, params, rows)
+                if scene == "cantilever":  # a small step: the start of a step load, seen by the guard
+                    rows.append(run_case(build, 0.1, "dt", scene, params))
+    if rows:  # what is measured so far, in case a later group is stopped
+        write(rows, margins, line)
+    if "material" in groups:
+        print("== stiff and soft materials (E and contact moduli x scale)", flush=True)
+        for scale in (100.0, 0.01):
+            for scene, build in (("net", functools.partial(net, 5.0, scale, t_end=0.01 if q else 0.03)),
+                                 ("sheet", functools.partial(sheet, scale, t_end=0.05 if q else 0.15))):
+                params = f"E x{scale:g}"
+                print(f"-- {scene} {params}", flush=True)
+                if q:
+                    rows.append(run_case(build, 1.0, "material", scene, params))
+                else:
+                    rows.append(run_case(build, 0.5, "material", scene, params))
+                    margins[(scene, params)] = margin(build, "material", scene, params, rows, factors=FACTORS[2:])
+                    if scale < 1:  # soft: the residual against smaller steps (is it the step or the model?)
+                        for f in (0.25, 0.1, 0.05):
+                            rows.append(run_case(build, f, "material", scene, params))
+    if rows:  # what is measured so far, in case a later group is stopped
+        write(rows, margins, line)
+    if "rupture" in groups:
+        print("== rupture", flush=True)
+        for f in ((0.5,) if q else (0.5, 1.0)):
+            rows.append(run_case(functools.partial(net, 30.0, 1.0, 1770e6, 0.01 if q else 0.03), f, "rupture", "net",
+                                 "30 m/s, wires 1770 MPa"))
+            if not q or "dt" not in groups:
+                rows.append(run_case(panel, f, "rupture", "panel", "0.5 m, to rupture"))
+            # more damping (quasi-static tests use up to 0.8): the damping booked on the driven DOFs grows with it
+            rows.append(run_case(functools.partial(panel, damping=0.8), f, "rupture", "panel", "0.5 m, to rupture, damping 0.8"))
+    if rows:  # what is measured so far, in case a later group is stopped
+        write(rows, margins, line)
+    if "speed" in groups:
+        print("== impact speeds (damping module, time-step factor 0.5 = ModuleParams.timestep_safety)", flush=True)
+        for v in ((5.0, 30.0) if q else (5.0, 10.0, 20.0, 30.0)):
+            rows.append(run_case(functools.partial(module, True, v, 0.03 if q else 0.08), 0.5, "speed", "module small", f"{v:g} m/s"))
+        if not q:  # the residual of the fastest impact with smaller steps
+            for f in (0.25, 0.125):
+                rows.append(run_case(functools.partial(module, True, 30.0, 0.08), f, "speed", "module small", "30 m/s"))
+        if not (q or a.no_default_module):
+            for v in (None, 15.0, 30.0):
+                rows.append(run_case(functools.partial(module, False, v, 0.1), 0.5, "speed", "module default",
+                                     f"{v:g} m/s" if v else f"{ModuleParams().impact_speed():.2f} m/s"))
+    write(rows, margins, line)
+    if margins:
+        print("== margins (factor x the estimated critical step)")
+        for (scene, params), (ok, bad) in margins.items():
+            at1, acc = margin_extras(rows, scene, params)
+            print(f"  {scene} {params}: last stable {ok if ok is None else round(ok, 3)}, first unstable {bad if bad is None else round(bad, 3)}, "
+                  f"stable at 1.0: {at1}, |residual| < {100 * ACCURATE:g}% up to {acc}")
+    print(f"total wall time {time.time() - t_start:.0f} s; results in {RESULTS}")
+
+
+if __name__ == "__main__":
+    main()
