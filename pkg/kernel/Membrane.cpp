@@ -3,6 +3,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 
 namespace flex {
@@ -92,6 +93,19 @@ double membraneMaxOmega2(const MembraneRest& rest, const MembraneLaw& law, doubl
 	D << k, k * law.nu, 0, k * law.nu, k, 0, 0, 0, 0.5 * k * (1 - law.nu);
 	const Eigen::Matrix<double, 6, 6> K = rest.A0 * B.transpose() * D * B;
 	return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(K, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff() / nodeMass;
+}
+
+double membraneStretchFactor(double e1, double e2, const MembraneLaw& law)
+{
+	if (!(law.Et > 0)) return 1;
+	const double k = law.Et / (1 - law.nu * law.nu);
+	double       s1; // larger principal value of S, the same branches as membraneForces
+	if (law.tensionOnly && e1 <= 0) s1 = 0;
+	else if (law.tensionOnly && e2 < -law.nu * e1)
+		s1 = law.Et * e1;
+	else
+		s1 = k * (e1 + law.nu * e2);
+	return std::max(1.0, 1 + 2 * e1 + std::max(0.0, s1) / (k * (1 - law.nu)));
 }
 
 } // namespace flex

@@ -48,4 +48,15 @@ MembraneResult membraneForces(const Vec3 x[3], const MembraneRest& rest, const M
 /// Largest omega^2 of the facet's in-plane stiffness at rest with mass m on each node [1/s^2].
 double membraneMaxOmega2(const MembraneRest& rest, const MembraneLaw& law, double nodeMass);
 
+/// Factor >= 1 by which the largest eigenvalue of the facet's tangent stiffness (all 9 DOFs) at
+/// principal Green strains e1 >= e2 can exceed membraneMaxOmega2's rest value: a stretched
+/// St. Venant-Kirchhoff membrane stiffens, k(3 lambda^2 - 1)/2 = k lambda^2 + S along a uniaxial
+/// stretch lambda (twice the rest stiffness at 30% strain). Returns
+///     max(1, lambda1^2 + s1 / (k (1 - nu))),  lambda1^2 = 1 + 2 e1, k = Et / (1 - nu^2),
+/// s1 the larger principal second Piola-Kirchhoff force of the law's branch (taut, wrinkled,
+/// slack). Exact for a uniaxial stretch with nu = 0; an upper bound otherwise, checked against
+/// the finite-difference tangent of membraneForces over random triangles, stretches, rotations
+/// and both laws (kernel test Membrane.StretchFactorBoundsTheTangentStiffness).
+double membraneStretchFactor(double e1, double e2, const MembraneLaw& law);
+
 } // namespace flex

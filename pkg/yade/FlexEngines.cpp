@@ -197,8 +197,13 @@ Real FlexTimeStepper::omega2Bonds() const
 		if (!b || !b->shape) continue;
 		const flexa::Element e = flexa::elementOf(b->shape.get());
 		if (e.cyl && e.cyl->attached) shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, b->id });
-		else if (e.fac && e.fac->attached)
-			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2, b->id });
+		else if (e.fac && e.fac->attached) {
+			// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
+			// of its tangent stiffness at the strains FlexElementEngine computed this step
+			const FlexMembraneMat* mat = dynamic_cast<const FlexMembraneMat*>(b->material.get());
+			const Real             f   = mat ? flex::membraneStretchFactor(e.fac->e1, e.fac->e2, flexa::membraneLaw(*mat)) : 1;
+			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 * f, b->id });
+		}
 	}
 	for (const Share& sh : shares)
 		for (int k = 0; k < sh.e.nNodes; ++k) {

@@ -54,7 +54,7 @@ public:
 		((Real, area0, NaN, Attr::readonly, "Rest area [m2]"))
 		((Real, massShare, 0, Attr::readonly, "Mass given to each node [kg]"))
 		((Real, inertiaShare, 0, Attr::readonly, "Rotational inertia given to each node [kg m2] (the membrane puts no moment on its nodes)"))
-		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the facet with its own mass shares [1/s2]"))
+		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the facet at rest with its own mass shares [1/s2]; FlexTimeStepper scales it up for the current stretch (a stretched membrane is stiffer)"))
 		((Real, n1, 0, Attr::readonly, "Larger principal membrane force per current width [N/m]"))
 		((Real, n2, 0, Attr::readonly, "Smaller principal membrane force per current width [N/m]"))
 		((Real, e1, 0, Attr::readonly, "Larger principal Green strain [-]"))

@@ -4,6 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
+#include <random>
+
 using namespace flex;
 using flex::test::close;
 
@@ -167,4 +170,85 @@ TEST(Membrane, DegenerateRestIsFlagged)
 {
 	EXPECT_EQ(makeMembraneRest(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)).A0, 0.0);
 	EXPECT_EQ(makeMembraneRest(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)).A0, 0.0);
+}
+
+namespace {
+// largest eigenvalue of the 9x9 tangent stiffness at x, by central differences of the forces
+double tangentMaxEigen(const Vec3 x0[3], const MembraneRest& rest, const MembraneLaw& law, double h)
+{
+	Eigen::Matrix<double, 9, 9> K;
+	for (int b = 0; b < 3; ++b)
+		for (int j = 0; j < 3; ++j) {
+			Vec3 xp[3] = { x0[0], x0[1], x0[2] }, xm[3] = { x0[0], x0[1], x0[2] };
+			xp[b][j] += h;
+			xm[b][j] -= h;
+			const MembraneResult fp = membraneForces(xp, rest, law), fm = membraneForces(xm, rest, law);
+			for (int a = 0; a < 3; ++a)
+				for (int i = 0; i < 3; ++i)
+					K(3 * a + i, 3 * b + j) = -(fp.f[a][i] - fm.f[a][i]) / (2 * h);
+		}
+	return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>>(0.5 * (K + K.transpose())).eigenvalues().maxCoeff();
+}
+}
+
+TEST(Membrane, StretchedMembraneStiffensAndTheFactorCoversIt)
+{
+	// nu = 0, right triangle stretched along x: the tangent's largest eigenvalue grows with the
+	// stretch (the rest value, which FlexFacet.omega2 holds, is 1.66x too small at 30% stretch),
+	// and rest x factor stays above it; factor = lambda^2 + S/k with S = k e1
+	const MembraneLaw  law { 20e3, 0.0, false, std::numeric_limits<double>::infinity() };
+	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(0.2, 0, 0), Vec3(0, 0.2, 0) };
+	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
+	const double       w0   = membraneMaxOmega2(rest, law, 1.0);
+	double             last = 0;
+	for (double lambda : { 1.0, 1.1, 1.3, 1.6 }) {
+		const Vec3           x[3]  = { X[0], Vec3(0.2 * lambda, 0, 0), X[2] };
+		const MembraneResult r     = membraneForces(x, rest, law);
+		const double         f     = membraneStretchFactor(r.e1, r.e2, law);
+		const double         exact = tangentMaxEigen(x, rest, law, 1e-7);
+		EXPECT_TRUE(close(f, lambda * lambda + r.e1, 1e-12));
+		EXPECT_LE(exact, w0 * f * (1 + 1e-5)) << lambda;
+		EXPECT_GT(exact, last * (1 + 1e-3)) << lambda;
+		if (lambda == 1.0) EXPECT_TRUE(close(exact, w0, 1e-5));
+		if (lambda == 1.3) EXPECT_GT(exact, 1.6 * w0);
+		last = exact;
+	}
+}
+
+TEST(Membrane, StretchFactorBoundsTheTangentStiffness)
+{
+	// random rest triangles, deformations up to lambda ~ 2.5 with rotation and shear, nu in
+	// {0, 0.3, 0.45}, taut and tension-only laws: the tangent's largest eigenvalue (finite
+	// differences, relative error ~1e-7) never exceeds the rest value times the factor, which
+	// is also not needlessly large: it is reached within 1% in some sample
+	std::mt19937                           rng(7);
+	std::normal_distribution<double>       n01(0, 1);
+	std::uniform_int_distribution<int>     pick(0, 2);
+	const double                           nus[3] = { 0.0, 0.3, 0.45 }, amp[3] = { 0.05, 0.3, 0.8 };
+	double                                 worst = 0;
+	int                                    checked = 0;
+	for (int trial = 0; trial < 3000; ++trial) {
+		Vec3 X[3];
+		for (auto& p : X)
+			p = 0.1 * Vec3(n01(rng), n01(rng), n01(rng));
+		const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
+		if (!(rest.A0 > 1e-3 * (X[1] - X[0]).squaredNorm())) continue;
+		const MembraneLaw law { 1.0, nus[pick(rng)], trial % 2 == 0, std::numeric_limits<double>::infinity() };
+		Eigen::Matrix3d   Fd = Eigen::Matrix3d::Identity();
+		const double      a  = amp[pick(rng)];
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+				Fd(i, j) += a * n01(rng);
+		Vec3 x[3];
+		for (int k = 0; k < 3; ++k)
+			x[k] = Fd * X[k] + 0.01 * Vec3(n01(rng), n01(rng), n01(rng));
+		const MembraneResult r = membraneForces(x, rest, law);
+		const double bound = membraneMaxOmega2(rest, law, 1.0) * membraneStretchFactor(r.e1, r.e2, law);
+		const double exact = tangentMaxEigen(x, rest, law, 1e-7 * 0.1);
+		ASSERT_LE(exact, bound * (1 + 1e-5)) << "trial " << trial << " e1 " << r.e1 << " e2 " << r.e2;
+		worst = std::max(worst, exact / bound);
+		++checked;
+	}
+	EXPECT_GT(checked, 2500);
+	EXPECT_GT(worst, 0.99);
 }

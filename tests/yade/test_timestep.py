@@ -228,3 +228,50 @@ def test_leaving_out_unreachable_pairs_lengthens_the_step_of_a_stretched_panel(s
     assert_rel(st.critical(), bonds_only, 1e-12, "critical step of the stretched panel")
     st.skipUnreachable = False
     assert st.critical() < 0.5 * bonds_only
+
+
+def _stretched_triangle(stretch):
+    """One membrane triangle (rest legs 0.1 m), two nodes clamped, all three moved to `stretch`
+    x their rest positions (a biaxially pre-stretched membrane), no gravity, no damping."""
+    from yadeflex import membrane as M
+    mat = M.membrane_material(20e3, 0.5, tension_only=False)
+    pts = [(0, 0, 0), (0.1, 0, 0), (0.0, 0.1, 0)]
+    nodes, facets = M.triangle_mesh(pts, [(0, 1, 2)], mat, 0.002, fixed=[0, 1])
+    for n, p in zip(nodes, pts):
+        O.bodies[n].state.pos = Vector3(*p) * stretch
+        O.bodies[n].state.refPos = Vector3(*p) * stretch
+    O.engines = yf.engines(gravity=(0, 0, 0), damping=0.0)
+    O.dt = 1e-12
+    O.step()
+    return nodes, facets
+
+
+def test_a_stretched_membrane_takes_a_shorter_step(scene):
+    """A St. Venant-Kirchhoff membrane stiffens when stretched (tangent k(3 lambda^2 - 1)/2 along a
+    uniaxial stretch): the stepper scales the facet's rest omega^2 by the kernel's bound. With the
+    free node nudged, 1.0x the estimate stays bounded for 20000 steps; the rest-based step
+    (what the stepper took before, and still takes at rest) blows up: the scaling is needed."""
+    nodes, facets = _stretched_triangle(1.0)
+    dt_rest = yf.critical_timestep()
+    O.reset()
+    nodes, facets = _stretched_triangle(1.4)
+    f = O.bodies[facets[0]].shape
+    dt_stretched = yf.critical_timestep()
+    assert f.e1 == pytest.approx(0.5 * (1.4 ** 2 - 1), rel=1e-9)
+    # biaxial, nu 0.3: factor lambda^2 + S/(k(1 - nu)) = 1.96 + 0.48 (1 + 0.3) / 0.7
+    assert dt_stretched == pytest.approx(dt_rest / math.sqrt(1.96 + 0.48 * 1.3 / 0.7), rel=1e-6)
+
+    def run(dt, steps=20000):
+        O.reset()
+        nodes, _ = _stretched_triangle(1.4)
+        free = O.bodies[nodes[2]]
+        free.state.vel = Vector3(0.3, 0.2, 0.1)
+        O.engines = [e for e in O.engines if e.label != "flexDt"]
+        O.dt = dt
+        for _ in range(steps):
+            O.step()
+            if not (free.state.pos - Vector3(0, 0.14, 0)).norm() < 1.0:
+                return False
+        return True
+    assert run(dt_stretched)
+    assert not run(dt_rest)
