@@ -390,6 +390,41 @@ def margin_extras(rows, scene, params):
     return (at1[0] if at1 else "", acc)
 
 
+def markdown(rows, margins_csv):
+    """The tables of bench/STABILITY.md from results/stability.csv and stability_margins.csv:
+    margins, impact speeds, materials, rupture, every run of the margin search, guard messages."""
+    def num(v):
+        return float(v) if v not in ("", None) else None
+    rows = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"]), residual_at_max=float(r["residual_at_max"]),
+                 sim_time_s=float(r["sim_time_s"]), vmax=float(r["vmax"]), dt_critical_start=float(r["dt_critical_start"])) for r in rows]
+    out = []
+    dtc = {}
+    for r in rows:
+        dtc.setdefault((r["scene"], r["params"]), r["dt_critical_start"])
+    out += ["| scene | case | estimate at start | stable at 1.0 | last stable | first unstable (sharpness) | headroom of 0.5 | \\|residual\\| < 5% up to |",
+            "|---|---|---|---|---|---|---|---|"]
+    for m in margins_csv:
+        ok, bad = num(m["last_stable_factor"]), num(m["first_unstable_factor"])
+        key = (m["scene"], m["params"])
+        out.append(f"| {m['scene']} | {m['params']} | {1e6 * dtc.get(key, math.nan):.3g} µs | {'yes' if m['stable_at_1'] == 'True' else '**no**'} | "
+                   f"{'' if ok is None else f'{ok:.3g}'} | **{'' if bad is None else f'{bad:.3g}'}** | {'' if bad is None else f'{bad / 0.5:.2g}x'} | "
+                   f"{m[f'residual_below_{ACCURATE:g}_up_to']} |")
+    head = ["| scene | case | factor | outcome | steps | sim. ms | wall s | residual | blow-up step | guard step | broken | max speed m/s (body) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def line(r):
+        o = r["outcome"] if r["outcome"] == "stable" else f"**{r['outcome']}**"
+        return (f"| {r['scene']} | {r['params']} | {r['factor']:.4g} | {o} | {r['steps']} | {1e3 * r['sim_time_s']:.1f} | {float(r['wall_s']):.3g} | "
+                f"{100 * r['residual_at_max']:+.3g}% | {r['blowup_step'] or '—'} | {r['guard_step'] or '—'} | {r['broken']} | {r['vmax']:.3g} ({r['vmax_body']}) |")
+    for group, title in (("speed", "Impact speeds"), ("material", "Stiff and soft materials"), ("rupture", "Rupture"), ("dt", "All runs of the margin search")):
+        out += ["", f"### {title}", ""] + head + [line(r) for r in rows if r["group"] == group]
+    out += ["", "### Guard messages (the rows where FlexGuard stopped a run; first 200 characters)", ""]
+    for r in rows:
+        if r["guard_step"]:
+            out.append(f"- {r['scene']} {r['params']} x{r['factor']:.4g} (guard step {r['guard_step']}, outcome {r['outcome']}): `{r['guard_message'][:200]}`")
+    return "\n".join(out) + "\n"
+
+
 def plot(rows, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -428,10 +463,14 @@ def main():
     ap.add_argument("--groups", default="dt,speed,material,rupture")
     ap.add_argument("--no-default-module", action="store_true", help="skip the default (full-size) module speeds")
     ap.add_argument("--plot-only", action="store_true", help="redraw results/stability.png from results/stability.csv")
+    ap.add_argument("--markdown", action="store_true", help="print the tables of STABILITY.md from results/stability*.csv")
     me = next((k for k, a in enumerate(sys.argv) if os.path.basename(a) == "stability.py"), 0)
     a = ap.parse_args(sys.argv[me + 1:])
     groups = a.groups.split(",")
     OUT[0] = "_quick" if a.quick else ""
+    if a.markdown:
+        with open(os.path.join(RESULTS, f"stability{OUT[0]}.csv")) as f, open(os.path.join(RESULTS, f"stability{OUT[0]}_margins.csv")) as g:
+            return print(markdown(list(csv.DictReader(f)), list(csv.DictReader(g))), end="")
     if a.plot_only:
         with open(os.path.join(RESULTS, "stability.csv")) as f:
             rows = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"])) for r in csv.DictReader(f)]
