@@ -139,7 +139,12 @@ def add_errors(rows, quantities, ref_of, analytic_of=None):
     err_<q>_analytic against analytic_of(row) -> {q: value}."""
     for r in rows:
         ref = ref_of(r["impl"], r["knob"])
+        if ref is not None and ref.get("status", "ok") != "ok":
+            ref = None  # an unfinished or unstable reference gives no error
         for q in quantities:
+            if r.get("status", "ok") != "ok":  # values up to where the run stopped are no result
+                r[f"err_{q}_ref"] = float("nan")
+                continue
             r[f"err_{q}_ref"] = rel_err(r.get(q), ref.get(q)) if ref is not None else float("nan")
             if analytic_of is not None:
                 a = analytic_of(r).get(q)
@@ -521,7 +526,7 @@ def sweep_net(quick):
 # ----------------------------------------------------------------------------------------------
 # damping module (small)
 # ----------------------------------------------------------------------------------------------
-MOD = dict(window=0.060, record=2e-4, builtin_damping=0.2, dt_update=200)
+MOD = dict(window=0.060, record=2e-4, builtin_damping=0.2, dt_update=200, builtin_wall_cap=300.0)  # cap [s]: see impact_window
 
 
 def small_params(grains=None):
@@ -548,10 +553,12 @@ def _touching(bid):
     return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
 
 
-def impact_window(bid, top0, size, window, record, every=None, each=None):
+def impact_window(bid, top0, size, window, record, every=None, each=None, wall_cap=math.inf):
     """Steps from the boulder's release to `window` [s] after its first contact. Peak force
     m (dv_z/dt + g) over `record` [s] intervals, deepest penetration of its lowest point below top0,
-    energy it lost (kinetic + potential) at the end. each(): called every `every` steps (time-step update)."""
+    energy it lost (kinetic + potential) at the end. each(): called every `every` steps (time-step update).
+    wall_cap [s]: a run still going after this much wall time stops with status "not finished"
+    (the built-in module's step collapses on fine fills: one such run had not ended after 45 min)."""
     from yadeflex.module import G
     st = O.bodies[bid].state
     m = st.mass
@@ -571,6 +578,10 @@ def impact_window(bid, top0, size, window, record, every=None, each=None):
         if O.time < next_rec:
             continue
         next_rec += record
+        if time.perf_counter() - w0 > wall_cap:
+            status = (f"not finished in {wall_cap:.0f} s: reached {1e3 * (O.time - t_contact):.1f} ms after contact" if t_contact is not None
+                      else f"not finished in {wall_cap:.0f} s: no contact yet") + f", dt {O.dt:.3g} s"
+            break
         if not all(math.isfinite(x) for x in st.pos) or not all(math.isfinite(x) for x in st.vel):
             status = f"unstable at {1e3 * (O.time - (t_contact or t_start)):.1f} ms"
             break
@@ -614,7 +625,8 @@ def module_runs(p, fracs, rows, knob, value_of):
         top_b = bm.fill_top(info)
         b = bm.add_boulder(info, p)
         dt0 = bm.set_dt(f)
-        r = impact_window(b, top_b, p.boulder_size(), MOD["window"], MOD["record"], MOD["dt_update"], lambda: bm.set_dt(f, only_decrease=True))
+        r = impact_window(b, top_b, p.boulder_size(), MOD["window"], MOD["record"], MOD["dt_update"], lambda: bm.set_dt(f, only_decrease=True),
+                          wall_cap=MOD["builtin_wall_cap"])
         r.update(impl="built-in", knob=knob, value=value_of(f), dt_fraction=f, grain_min=p.grain_min, grain_max=p.grain_max,
                  grains=len(info["grains"]), damping=MOD["builtin_damping"], dt_start=dt0)
         rows.append(r)
