@@ -54,9 +54,10 @@ double membraneMaxOmega2(const MembraneRest& rest, const MembraneLaw& law, doubl
 /// stretch lambda (twice the rest stiffness at 30% strain). Returns
 ///     max(1, lambda1^2 + s1 / (k (1 - nu))),  lambda1^2 = 1 + 2 e1, k = Et / (1 - nu^2),
 /// s1 the larger principal second Piola-Kirchhoff force of the law's branch (taut, wrinkled,
-/// slack). Exact for a uniaxial stretch with nu = 0; an upper bound otherwise, checked against
-/// the finite-difference tangent of membraneForces over random triangles, stretches, rotations
-/// and both laws (kernel test Membrane.StretchFactorBoundsTheTangentStiffness).
+/// slack). Reached in some states; an upper bound for 0 <= nu < 0.5, checked against the
+/// finite-difference tangent of membraneForces over random triangles, stretches, rotations and
+/// both laws (kernel test Membrane.StretchFactorBoundsTheTangentStiffness). NOT a bound for
+/// nu < 0 (1.19x at nu = -0.99): auxetic membranes are rejected by the builders.
 double membraneStretchFactor(double e1, double e2, const MembraneLaw& law);
 
 } // namespace flex

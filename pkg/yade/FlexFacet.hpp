@@ -24,7 +24,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(FlexMembraneMat, FrictMat,
 		"Material of deformable facets (yade-flex membranes). ``young``, ``poisson`` and ``frictionAngle`` keep FrictMat's meaning for contacts (kn = 2 E1 r1 E2 r2/(E1 r1 + E2 r2) with r the facet's half thickness); the membrane law uses :yref:`FlexMembraneMat.stiffness` (E t) and :yref:`FlexMembraneMat.membranePoisson`. ``density`` is not used: the mass comes from :yref:`FlexMembraneMat.arealDensity`.",
 		((Real, stiffness, NaN, , "Membrane tensile stiffness E t [N/m]"))
-		((Real, membranePoisson, 0.3, , "Poisson ratio of the membrane [-]"))
+		((Real, membranePoisson, 0.3, , "Poisson ratio of the membrane, in [0, 0.5) [-]"))
 		((Real, arealDensity, NaN, , "Mass per unit area [kg/m2]"))
 		((bool, tensionOnly, false, , "Fabric that wrinkles: no compression (tension-field model) [-]"))
 		((Real, strength, std::numeric_limits<Real>::infinity(), , "A facet ruptures when its larger principal membrane force reaches this [N/m]")),

@@ -125,7 +125,7 @@ void FlexFacet::attach(int selfId)
 	if (!mat) fail("material must be a FlexMembraneMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
 	if (!(mat->stiffness > 0) || !std::isfinite(mat->stiffness)) fail("material stiffness (E t) must be positive and finite");
 	if (!(mat->arealDensity > 0) || !std::isfinite(mat->arealDensity)) fail("material arealDensity must be positive and finite");
-	if (!(mat->membranePoisson > -1 && mat->membranePoisson < 0.5)) fail("material membranePoisson must be in (-1, 0.5)");
+	if (!(mat->membranePoisson >= 0 && mat->membranePoisson < 0.5)) fail("material membranePoisson must be in [0, 0.5) (the time step's stretch bound is not valid for auxetic membranes)");
 	if (!(mat->young > 0) || !std::isfinite(mat->young)) fail("material young (contact modulus) must be positive and finite");
 	State* s[3];
 	for (int k = 0; k < 3; ++k)

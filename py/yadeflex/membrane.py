@@ -29,8 +29,8 @@ def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, 
     _positive("membrane stiffness", stiffness)
     _positive("areal_density", areal_density)
     _positive("contact_young", contact_young)
-    if not (-1 < poisson < 0.5):
-        raise ValueError(f"poisson must be in (-1, 0.5), got {poisson!r}")
+    if not (0 <= poisson < 0.5):  # the time step's stretch bound (membraneStretchFactor) needs nu >= 0
+        raise ValueError(f"poisson must be in [0, 0.5), got {poisson!r}")
     if not strength > 0:
         raise ValueError(f"strength must be positive (inf to disable), got {strength!r}")
     if not (0 <= friction_deg < 90):

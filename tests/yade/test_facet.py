@@ -304,6 +304,7 @@ def test_wire_on_membrane_one_contact(scene):
     (lambda m, n: yf.membrane_material(-5, 0.3), "stiffness"),
     (lambda m, n: yf.membrane_material(1e4, 0), "areal_density"),
     (lambda m, n: yf.membrane_material(1e4, 0.3, poisson=0.7), "poisson"),
+    (lambda m, n: yf.membrane_material(1e4, 0.3, poisson=-0.3), "poisson"),
 ])
 def test_bad_input_raises(scene, bad, msg):
     mat = yf.geotextile()
