@@ -46,6 +46,34 @@ namespace flexa {
 		np.pairs.emplace_back(a, b);
 	}
 
+	/// Potential pairs that cannot touch before the collider runs again, found by
+	/// FlexTimeStepper's estimate (see FlexTimeStepper.skipUnreachable): the geometry functors
+	/// return false for them at once instead of computing their distance. A mark is the pair's
+	/// ids at its index in the interaction container (an interaction moved by an erase no longer
+	/// matches and is simply tested). The marks hold while no collider has run since they were
+	/// made: FlexTimeStepper sets InteractionContainer::iterColliderLastRun to kMarksValid, and
+	/// every YADE collider overwrites that field on each run (InsertionSortCollider with -1,
+	/// others with the iteration), which retires all marks at once. Read concurrently by the
+	/// interaction loop, written only by FlexTimeStepper::action (a serial engine).
+	constexpr long kMarksValid = -2;
+	struct UnreachableMarks {
+		const Scene*                                   scene = nullptr;
+		std::vector<std::pair<Body::id_t, Body::id_t>> pair; // by Interaction::linIx; (-1, -1): none
+	};
+	inline UnreachableMarks& unreachableMarks()
+	{
+		static UnreachableMarks m;
+		return m;
+	}
+	inline bool markedUnreachable(const Scene* scene, const Interaction& I)
+	{
+		if (scene->interactions->iterColliderLastRun != kMarksValid) return false;
+		const UnreachableMarks& m = unreachableMarks();
+		if (m.scene != scene || I.linIx < 0 || (size_t)I.linIx >= m.pair.size()) return false;
+		const std::pair<Body::id_t, Body::id_t>& p = m.pair[I.linIx];
+		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
+	}
+
 	inline flex::BeamSection section(const FlexMat& m, Real radius)
 	{
 		const Real E = std::isfinite(m.elementYoung) ? m.elementYoung : m.young;

@@ -286,19 +286,19 @@ namespace {
 	}
 }
 
-Real FlexTimeStepper::omega2Contacts() const { return omega2ContactsImpl(nullptr); }
+Real FlexTimeStepper::omega2Contacts() const { return omega2ContactsImpl(nullptr, false); }
 
 boost::python::list FlexTimeStepper::unreachablePairs() const
 {
 	std::vector<std::pair<Body::id_t, Body::id_t>> out;
-	omega2ContactsImpl(&out);
+	omega2ContactsImpl(&out, false);
 	boost::python::list l;
 	for (const auto& pr : out)
 		l.append(boost::python::make_tuple(pr.first, pr.second));
 	return l;
 }
 
-Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut) const
+Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut, bool mark) const
 {
 	// Gershgorin rows of M^-1/2 K M^-1/2 for all contact springs. A contact couples the
 	// entries g = (-w on side 1, +w on side 2) with stiffness k = max(kn, ks) in any
@@ -328,13 +328,19 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 	// before the integrator uses the step (see flex::cannotTouch). Only with an
 	// InsertionSortCollider (the guarantee is its trigger) and for shapes whose points are known:
 	// spheres (clump members too) and elements; everything else counts as before.
-	bool canSkip = skipUnreachable;
+	bool canSkip = skipUnreachable && !scene->isPeriodic; // (the gaps below ignore periodic images)
 	if (canSkip) {
 		canSkip = false;
 		for (const auto& e : scene->engines)
 			if (dynamic_cast<const InsertionSortCollider*>(e.get())) canSkip = true;
 	}
 	long skipped = 0;
+	// the skipped pairs are also marked for the geometry functors (flexa::UnreachableMarks)
+	flexa::UnreachableMarks& marks = flexa::unreachableMarks();
+	if (mark) {
+		marks.scene = nullptr;
+		marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
+	}
 	// the defining points of a body (sphere centre, element nodes) and how far they may still
 	// travel before the collider runs; false: unknown (no bound yet, another shape)
 	// per body, once per estimate (on first use): its points, how far they may still travel, and
@@ -472,6 +478,7 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 		if (canSkip && cannotTouchBeforeCollider(i1, i2)) {
 			++skipped;
 			if (skippedOut) skippedOut->emplace_back(i1, i2);
+			if (mark && I->linIx >= 0 && (size_t)I->linIx < marks.pair.size()) marks.pair[I->linIx] = std::make_pair(i1, i2);
 			continue;
 		}
 		const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
@@ -510,7 +517,14 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 				if (!bs[s]->el.fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
-	skippedCache        = skipped;
+	skippedCache = skipped;
+	if (mark) {
+		if (canSkip) {
+			marks.scene                              = scene;
+			scene->interactions->iterColliderLastRun = flexa::kMarksValid; // until a collider runs
+		} else if (scene->interactions->iterColliderLastRun == flexa::kMarksValid)
+			scene->interactions->iterColliderLastRun = -1;
+	}
 	Real w2             = 0;
 	stiffestContactBody = -1;
 	for (size_t i = 0; i < row.size(); ++i)
@@ -526,12 +540,14 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 // hence omega^2, grows by that factor and the stable step shrinks by sqrt(1 + c). (Measured: a
 // 20-element cantilever with c = 0.8 runs wild at 0.8 of the undamped limit, 0.8 sqrt(1.8) > 1,
 // and is stable at 0.4.)
-Real FlexTimeStepper::critical() const
+Real FlexTimeStepper::critical() const { return criticalImpl(false); }
+
+Real FlexTimeStepper::criticalImpl(bool mark) const
 {
 	Real c = 0;
 	for (const auto& e : scene->engines)
 		if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) c = std::max(c, std::abs(nw->damping));
-	const Real wb = omega2Bonds(), wc = omega2Contacts();
+	const Real wb = omega2Bonds(), wc = omega2ContactsImpl(nullptr, mark);
 	stiffestCache = wc >= wb ? stiffestContactBody : stiffestBondBody;
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
@@ -552,8 +568,9 @@ void FlexTimeStepper::action()
 	const bool   changed = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
 	lastInteractionCount = nIntr;
 	lastColliderRuns     = colliderRuns;
+	if (!markUnreachable && scene->interactions->iterColliderLastRun == flexa::kMarksValid) scene->interactions->iterColliderLastRun = -1; // switched off: retire the marks
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
-	dtCritical           = critical();
+	dtCritical           = criticalImpl(markUnreachable);
 	stiffestBody         = stiffestCache;
 	skippedPairs         = skippedCache;
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;

@@ -35,6 +35,7 @@ namespace {
 bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
+	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	const Real          R   = static_cast<const Sphere&>(*cm1).radius;
 	const FlexCylinder& cyl = static_cast<const FlexCylinder&>(*cm2);
 	const State *       sa = flexa::stateOf(scene, cyl.node1), *sb = flexa::stateOf(scene, cyl.node2);
@@ -78,6 +79,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
+	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	const FlexCylinder& c1 = static_cast<const FlexCylinder&>(*cm1);
 	const FlexCylinder& c2 = static_cast<const FlexCylinder&>(*cm2);
 	if (flexa::shareNode(c1, c2)) {
@@ -171,6 +173,7 @@ namespace {
 bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
+	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	const Real       R  = static_cast<const Sphere&>(*cm1).radius;
 	const FlexFacet& fa = static_cast<const FlexFacet&>(*cm2);
 	const bool       isNew = !I->geom;
@@ -213,6 +216,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
+	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	const FlexCylinder&  c  = static_cast<const FlexCylinder&>(*cm1);
 	const FlexFacet&     fa = static_cast<const FlexFacet&>(*cm2);
 	const flexa::Element ec = flexa::elementOf(&c), ef = flexa::elementOf(&fa);
@@ -276,6 +280,7 @@ bool Ig2_FlexFacet_FlexFacet_FlexContactGeom::go(
 bool Ig2_Sphere_Sphere_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State& st2, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
+	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	if (scene->isPeriodic) throw std::runtime_error("Ig2_Sphere_Sphere_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
 	const Real     R1 = static_cast<const Sphere&>(*cm1).radius, R2 = static_cast<const Sphere&>(*cm2).radius;
 	const Vector3r x1 = st1.pos, x2 = st2.pos + shift2, d = x2 - x1;
