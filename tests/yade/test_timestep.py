@@ -192,6 +192,17 @@ def _sheet_target():
     return (0.1, 0.9), 0.02, 0.03
 
 
+def _shower(target, seed):
+    """Build the target scene, add 40 small balls falling onto it, and the engines."""
+    import random
+    (lo, hi), r, z0 = target()
+    rnd = random.Random(seed)
+    for k in range(40):
+        sphere((lo + (hi - lo) * rnd.random(), lo + (hi - lo) * rnd.random(), z0 + 0.3 * rnd.random()), r,
+               velocity=(rnd.uniform(-2, 2), rnd.uniform(-2, 2), -rnd.uniform(2, 8)))
+    O.engines = yf.engines()
+
+
 @pytest.mark.parametrize("target,min_checked", [(_net_target, 10000), (_sheet_target, 1000)], ids=["net", "sheet"])
 def test_pairs_left_out_of_the_estimate_do_not_touch_before_the_collider_runs(scene, target, min_checked):
     """The stepper leaves out potential contacts whose gap exceeds how far both sides can still
@@ -200,13 +211,7 @@ def test_pairs_left_out_of_the_estimate_do_not_touch_before_the_collider_runs(sc
     with a shower of 40 small balls (sphere-sphere, sphere-cylinder, cylinder-cylinder,
     sphere-facet pairs); the rule must also leave pairs out (the check is not vacuous) and some of
     them must touch later (it is tested near its edge)."""
-    import random
-    (lo, hi), r, z0 = target()
-    rnd = random.Random(5)
-    for k in range(40):
-        sphere((lo + (hi - lo) * rnd.random(), lo + (hi - lo) * rnd.random(), z0 + 0.3 * rnd.random()), r,
-               velocity=(rnd.uniform(-2, 2), rnd.uniform(-2, 2), -rnd.uniform(2, 8)))
-    O.engines = yf.engines()
+    _shower(target, seed=5)
     checked, touched_later = _check_left_out_pairs(3000)
     assert checked > min_checked
     assert touched_later > 0
@@ -222,13 +227,7 @@ def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps
     the collider runs again. Those pairs cannot touch before then, so the run must be the same
     bit for bit as one that tests them (one thread: the force sums are then in a fixed order),
     through impacts, showers and many collider runs, with many pairs skipped."""
-    import random
-    (lo, hi), r, z0 = target()
-    rnd = random.Random(7)
-    for k in range(40):
-        sphere((lo + (hi - lo) * rnd.random(), lo + (hi - lo) * rnd.random(), z0 + 0.3 * rnd.random()), r,
-               velocity=(rnd.uniform(-2, 2), rnd.uniform(-2, 2), -rnd.uniform(2, 8)))
-    O.engines = yf.engines()
+    _shower(target, seed=7)
     O.trackEnergy = True
     O.saveTmp("marks")
     runs = {}
