@@ -82,8 +82,8 @@ void FlexElementEngine::action()
 		b->state->pos    = 0.5 * (si->pos + sj->pos);
 		b->state->vel    = 0.5 * (si->vel + sj->vel);
 		if (energy) {
-			scene->energy->add(f.elasticEnergy, "flexBondElastic", elastIx, true);
-			if (f.plasticWork != 0) scene->energy->add(f.plasticWork, "flexBondPlastic", plastIx, false);
+			flexa::addEnergy(scene, f.elasticEnergy, "flexBondElastic", elastIx, true);
+			if (f.plasticWork != 0) flexa::addEnergy(scene, f.plasticWork, "flexBondPlastic", plastIx, false);
 		}
 		if (f.rupture) {
 #ifdef YADE_OPENMP
@@ -109,7 +109,7 @@ void FlexElementEngine::action()
 	for (Body::id_t id : broken) {
 		const flexa::Element e = flexa::elementOf(scene, id);
 		// the element's stored energy is released at rupture (elastic waves we do not resolve)
-		if (energy) scene->energy->add(e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
+		if (energy) flexa::addEnergy(scene, e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
 		for (int k = 0; k < e.nNodes; ++k) {
 			const int nid = e.nodes[k];
 			if (!(*scene->bodies)[nid]) continue;
@@ -168,9 +168,9 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 		b->state->pos = (x[0] + x[1] + x[2]) / 3;
 		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
 		if (energy) {
-			scene->energy->add(r.energy, "flexMembraneElastic", membIx, true);
+			flexa::addEnergy(scene, r.energy, "flexMembraneElastic", membIx, true);
 			// work done BY the pressure, booked with the opposite sign like YADE's gravWork
-			if (f.pressure != 0) scene->energy->add(-fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt, "flexPressureWork", pressIx, false);
+			if (f.pressure != 0) flexa::addEnergy(scene, -fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt, "flexPressureWork", pressIx, false);
 		}
 		if (r.rupture) {
 #ifdef YADE_OPENMP
@@ -200,7 +200,7 @@ Real FlexTimeStepper::omega2Bonds() const
 		else if (e.fac && e.fac->attached) {
 			// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
 			// of its tangent stiffness at the strains FlexElementEngine computed this step
-			const FlexMembraneMat* mat = dynamic_cast<const FlexMembraneMat*>(b->material.get());
+			const FlexMembraneMat* mat = flexa::fastCast<FlexMembraneMat>(b->material.get());
 			const Real             f   = mat ? flex::membraneStretchFactor(e.fac->e1, e.fac->e2, flexa::membraneLaw(*mat)) : 1;
 			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 * f, b->id });
 		}
@@ -254,6 +254,8 @@ namespace {
 	{
 		const auto&           bodies = *scene->bodies;
 		std::vector<StepBody> out(bodies.size());
+		const Material*       lastMat   = nullptr;
+		const FrictMat*       lastFrict = nullptr;
 		for (size_t id = 0; id < bodies.size(); ++id) {
 			const shared_ptr<Body>& b = bodies[id];
 			if (!b) continue;
@@ -263,9 +265,14 @@ namespace {
 				if (st.mass > 0 && st.blockedDOFs != State::DOF_ALL) s.invSqrtMass = 1 / std::sqrt(st.mass);
 				s.Imin = st.inertia.minCoeff();
 			}
-			s.mat = dynamic_cast<const FrictMat*>(b->material.get());
+			const Material* m = b->material.get();
+			if (m != lastMat) { // bodies share materials: one cast per run of equal materials
+				lastMat   = m;
+				lastFrict = flexa::fastCast<FrictMat>(m);
+			}
+			s.mat = lastFrict;
 			if (!b->shape) continue;
-			if (const Sphere* sp = dynamic_cast<const Sphere*>(b->shape.get())) {
+			if (const Sphere* sp = flexa::fastCast<Sphere>(b->shape.get())) {
 				s.radius = sp->radius;
 				s.sphere = true;
 			} else {
@@ -400,17 +407,25 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 			p[a] = x1[a];
 		for (int a = 0; a < n2; ++a)
 			p[n1 + a] = x2[a];
-		if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, sb[i1].radius + sb[i2].radius + reach1 + reach2))) return true;
+		const Real reachAll = sb[i1].radius + sb[i2].radius + reach1 + reach2;
+		if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, reachAll))) return true;
+		// a point or segment and a triangle: the plane test next (a wire or grain beside a
+		// lining), before the exact distance
+		if (n2 == 3 && n1 < 3 && flex::segmentTriangleApart(x1[0], x1[n1 - 1], x2[0], x2[1], x2[2], reachAll)) return true;
+		if (n1 == 3 && n2 < 3 && flex::segmentTriangleApart(x2[0], x2[n2 - 1], x1[0], x1[1], x1[2], reachAll)) return true;
 		const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
 		return flex::cannotTouch(gap, reach1, reach2, size);
 	};
 	for (const auto& I : *scene->interactions) {
 		if (I->isReal()) {
-			const NormShearPhys* ph = dynamic_cast<const NormShearPhys*>(I->phys.get());
+			const IPhys*         ip = I->phys.get();
+			const FrictPhys*     fp = flexa::fastCast<FrictPhys>(ip);
+			const NormShearPhys* ph = fp ? fp : dynamic_cast<const NormShearPhys*>(ip);
 			if (!ph) continue;
+			const FlexContactGeom* fg = flexa::fastCast<FlexContactGeom>(I->geom.get());
 			if (law && law->rollingStiffness > 0)
-				if (const FlexContactGeom* g = dynamic_cast<const FlexContactGeom*>(I->geom.get()))
-					if (const FrictPhys* fp = dynamic_cast<const FrictPhys*>(ph)) {
+				if (const FlexContactGeom* g = fg)
+					if (fp) {
 						const Real kr = law->rollingK(*g, *fp);
 						if (kr > 0) { // 2 kr / I on each side (Gershgorin row of the coupled pair)
 							addRot(I->getId1(), kr, 1, 1);
@@ -423,7 +438,7 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 				Real       w, lever;
 			} e[6];
 			int ne = 0;
-			if (const FlexContactGeom* g = dynamic_cast<const FlexContactGeom*>(I->geom.get())) {
+			if (const FlexContactGeom* g = fg) {
 				if (!g->active) continue;
 				const Vector2i*  nodes[2] = { &g->nodes1, &g->nodes2 };
 				const Vector3i*  tris[2]  = { &g->tri1, &g->tri2 };
@@ -661,8 +676,10 @@ void FlexNewtonIntegrator::action()
 	thrMax.assign(nThr, 0);
 	auto&      bodies = *scene->bodies;
 	const long n      = (long)movers.size();
+	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
+	long nDamp = 0;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t        id = movers[k];
@@ -692,27 +709,24 @@ void FlexNewtonIntegrator::action()
 			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
 			// included), kinetic energy before the update, work of gravity -m g.v dt. Unlike
 			// NewtonIntegrator, damping is booked on free DOFs only: a blocked (driven) DOF is not
-			// damped, and booking |v||F| c dt there would claim energy nothing dissipated.
+			// damped, and booking |v||F| c dt there would claim energy nothing dissipated. Summed
+			// here and booked once per step (booking per body was 5% of a granular step).
 			if (damping != 0 && st->isDamped && blocked != State::DOF_ALL) {
-				if (blocked == 0) { // the common case, the same IEEE operations as NewtonIntegrator
-					scene->energy->add(st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
-					scene->energy->add(st->angVel.cwiseAbs().dot(m.cwiseAbs()) * damping * dt, "nonviscDamp", nonviscDampIx, false);
-				} else {
+				++nDamp;
+				if (blocked == 0) // the common case
+					eDamp += (st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) + st->angVel.cwiseAbs().dot(m.cwiseAbs())) * damping * dt;
+				else {
 					Real e = 0;
 					for (int i = 0; i < 3; ++i) {
 						if (!(blocked & State::axisDOF(i, false))) e += std::abs(st->vel[i]) * std::abs(f[i] + st->mass * gravity[i]);
 						if (!(blocked & State::axisDOF(i, true))) e += std::abs(st->angVel[i]) * std::abs(m[i]);
 					}
-					scene->energy->add(e * damping * dt, "nonviscDamp", nonviscDampIx, false);
+					eDamp += e * damping * dt;
 				}
 			}
-			const Real Et = 0.5 * st->mass * st->vel.squaredNorm(), Er = 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
-			if (!kinSplit) scene->energy->add(Et + Er, "kinetic", kinEnergyIx, true);
-			else {
-				scene->energy->add(Et, "kinTrans", kinEnergyTransIx, true);
-				scene->energy->add(Er, "kinRot", kinEnergyRotIx, true);
-			}
-			scene->energy->add(-gravity.dot(st->vel) * st->mass * dt, "gravWork", fieldWorkIx, false);
+			eKinT += 0.5 * st->mass * st->vel.squaredNorm();
+			eKinR += 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
+			eGrav += -gravity.dot(st->vel) * st->mass * dt;
 		}
 		if (blocked != State::DOF_ALL) {
 			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
@@ -749,6 +763,15 @@ void FlexNewtonIntegrator::action()
 		MemberSweep sweep { mx };
 		sweep.saveMaximaDisplacement(b); // collider trigger, as NewtonIntegrator
 		if (b->isClump()) Clump::moveMembers(b, scene, &sweep);
+	}
+	if (track && n > 0) {
+		if (nDamp) flexa::addEnergy(scene, eDamp, "nonviscDamp", nonviscDampIx, false);
+		if (!kinSplit) flexa::addEnergy(scene, eKinT + eKinR, "kinetic", kinEnergyIx, true);
+		else {
+			flexa::addEnergy(scene, eKinT, "kinTrans", kinEnergyTransIx, true);
+			flexa::addEnergy(scene, eKinR, "kinRot", kinEnergyRotIx, true);
+		}
+		flexa::addEnergy(scene, eGrav, "gravWork", fieldWorkIx, false);
 	}
 	maxVelocitySq = 0;
 	for (Real v : thrMax)

@@ -348,13 +348,13 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 		// neighbour taking the shear over books the same amount back (below), so a hand-over
 		// nets to zero.
 		if (g.lastActiveIter == scene->iter - 1 && track) {
-			scene->energy->add(0.5 * p.shearForce.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+			flexa::addEnergy(scene, 0.5 * p.shearForce.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 			const Real kr = rollingK(g, p);
-			if (kr > 0) scene->energy->add(0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
+			if (kr > 0) flexa::addEnergy(scene, 0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
 		}
 		return g.lastActiveIter >= scene->iter - 1;
 	}
-	if (g.handover && track) scene->energy->add(-0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 	const Vector3r&              n     = g.normal;
 	const Vector3r               shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r               dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
@@ -379,11 +379,11 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 		scene->forces.addTorque(I->getId1(), -rs.value);
 		scene->forces.addTorque(I->getId2(), rs.value);
 		rollEnergy = rs.energy;
-		if (scene->trackEnergy && rs.dissipated != 0) scene->energy->add(rs.dissipated, "flexRolling", rollIx, false);
+		if (scene->trackEnergy && rs.dissipated != 0) flexa::addEnergy(scene, rs.dissipated, "flexRolling", rollIx, false);
 	}
 	if (scene->trackEnergy) {
-		scene->energy->add(r.elasticEnergy + rollEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
-		scene->energy->add(r.frictionWork, "flexFriction", frictIx, false);
+		flexa::addEnergy(scene, r.elasticEnergy + rollEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
+		flexa::addEnergy(scene, r.frictionWork, "flexFriction", frictIx, false);
 	}
 	return true;
 }

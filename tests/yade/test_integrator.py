@@ -23,12 +23,22 @@ def _run(cls, steps=1500):
     return dofs, {k: O.energy[k] for k in O.energy.keys()}, O.engines[-1]
 
 
+def _same_energy(ea, eb):
+    """Same terms; the integrator's terms (kinetic, gravWork, nonviscDamp) equal to the round-off
+    of the order of summation: FlexNewtonIntegrator sums its bodies' terms and books the sum once
+    per step, NewtonIntegrator books body by body (a relative 1e-12 is ~1e3 x that round-off)."""
+    assert set(ea) == set(eb)
+    for k in ea:
+        assert eb[k] == pytest.approx(ea[k], rel=1e-12, abs=1e-12 * max(abs(v) for v in ea.values())), k
+
+
 def test_same_motion_and_energy_as_newton_integrator(scene):
     a, ea, _ = _run(NewtonIntegrator)
     b, eb, e = _run(FlexNewtonIntegrator)
     assert e.usedFastPath
     assert a == b
-    assert ea == eb and ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
+    _same_energy(ea, eb)
+    assert ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
 
 
 def test_falls_back_for_aspherical_bodies(scene):
@@ -95,7 +105,8 @@ def test_clumps_take_the_fast_path_with_the_same_motion_and_energy(scene):
     assert e.usedFastPath
     assert drop > 0.02  # the clump fell onto the net and pushed it down
     assert a == b
-    assert ea == eb and ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
+    _same_energy(ea, eb)
+    assert ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
 
 
 def _damped_sphere(blocked, vel, gravity, steps=200, integrator=FlexNewtonIntegrator):
