@@ -43,6 +43,7 @@ void FlexGuard::validate() const
 	if (!(maxStepFraction > 0)) bad("maxStepFraction", maxStepFraction, "> 0 (inf: off)");
 	if (!(maxSpeed > 0)) bad("maxSpeed", maxSpeed, "> 0 (inf: off)");
 	if (!(energyTolerance > 0)) bad("energyTolerance", energyTolerance, "> 0 (inf: off)");
+	if (!(maxKineticRatio > 0)) bad("maxKineticRatio", maxKineticRatio, "> 0 (inf: off)");
 }
 
 void FlexGuard::resetPy()
@@ -55,6 +56,8 @@ void FlexGuard::resetPy()
 	energyResidual = 0;
 	externalWork   = 0;
 	maxStepSeen    = 0;
+	energyInput    = 0;
+	kineticSeen    = 0;
 	lastWorkIter   = -1;
 	lastEnergyCount = 0;
 }
@@ -272,9 +275,42 @@ void FlexGuard::action()
 	if (lastEnergyCount == 0) return;
 	if (std::isnan(energyStart)) {
 		energyScale    = 0;
+		energyInput    = 0;
 		energyStart    = total;
 		externalWork   = 0;
 		startIncrement = lastWorkIncrement;
+	}
+	// the bodies carrying the most kinetic energy: where created energy shows
+	auto largestKinetic = [&](std::ostringstream& os) {
+		std::vector<std::pair<Real, Body::id_t>> kin;
+		for (const auto& b : bs)
+			if (b && b->state->mass > 0) kin.emplace_back(0.5 * b->state->mass * b->state->vel.squaredNorm(), b->id);
+		const size_t nShow = std::min<size_t>(5, kin.size());
+		std::partial_sort(kin.begin(), kin.begin() + nShow, kin.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+		std::vector<Body::id_t> ids;
+		os << "; largest kinetic energy:";
+		for (size_t i = 0; i < nShow; i++) {
+			ids.push_back(kin[i].second);
+			os << " #" << kin[i].second << " " << kin[i].first << " J" << (i + 1 < nShow ? "," : "");
+		}
+		return ids;
+	};
+	// 4a: kinetic energy far above the energy put in (a linear blow-up, which keeps the leap-frog
+	// balance of 4b constant while every term grows)
+	auto term = [&](const char* name) {
+		const auto it = en.names.find(name);
+		return it == en.names.end() ? Real(0) : std::abs(en.energies.get(it->second));
+	};
+	// both as booked by the integrator in the step just taken (the same half step: the gravity
+	// work that brought the current velocities is booked only in the next step)
+	energyInput = std::max(energyInput, std::abs(energyStart) + std::abs(externalWork) + term("gravWork") + term("flexPressureWork"));
+	kineticSeen = term("kinetic") + term("kinTrans") + term("kinRot");
+	if (energyInput > 0 && kineticSeen > maxKineticRatio * energyInput) {
+		std::ostringstream os;
+		os << "kinetic energy " << kineticSeen << " J > maxKineticRatio = " << maxKineticRatio << " x the energy put in " << energyInput
+		   << " J (start, external work, gravity, pressure): the time step is too long for some element or contact";
+		const std::vector<Body::id_t> ids = largestKinetic(os);
+		fail(os.str(), ids);
 	}
 	Real sumAbs = std::abs(externalWork);
 	for (size_t i = 0; i < en.energies.size(); i++)
@@ -282,20 +318,10 @@ void FlexGuard::action()
 	energyScale    = std::max(energyScale, sumAbs);
 	energyResidual = (total - energyStart) - (externalWork - lastWorkIncrement + startIncrement);
 	if (energyScale > 0 && energyResidual > energyTolerance * energyScale) {
-		// name the bodies carrying the most kinetic energy: where the created energy shows
-		std::vector<std::pair<Real, Body::id_t>> kin;
-		for (const auto& b : bs)
-			if (b && b->state->mass > 0) kin.emplace_back(0.5 * b->state->mass * b->state->vel.squaredNorm(), b->id);
-		const size_t nShow = std::min<size_t>(5, kin.size());
-		std::partial_sort(kin.begin(), kin.begin() + nShow, kin.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-		std::vector<Body::id_t> ids;
-		std::ostringstream      os;
+		std::ostringstream os;
 		os << "energy created without external work: (total - start) - externalWork = " << energyResidual << " J > energyTolerance = " << energyTolerance
-		   << " x energy scale " << energyScale << " J; largest kinetic energy:";
-		for (size_t i = 0; i < nShow; i++) {
-			ids.push_back(kin[i].second);
-			os << " #" << kin[i].second << " " << kin[i].first << " J" << (i + 1 < nShow ? "," : "");
-		}
+		   << " x energy scale " << energyScale << " J";
+		const std::vector<Body::id_t> ids = largestKinetic(os);
 		fail(os.str(), ids);
 	}
 }

@@ -64,6 +64,7 @@ public:
 		((Real, maxStepFraction, 0.5, Attr::triggerPostLoad, "Largest step |v| dt as a fraction of the body's contact radius, in (0, inf]; inf: off [-]"))
 		((Real, maxSpeed, std::numeric_limits<Real>::infinity(), Attr::triggerPostLoad, "Largest speed of any body, > 0; inf (default): off [m/s]"))
 		((Real, energyTolerance, 0.25, Attr::triggerPostLoad, "Largest energy created without external work, as a fraction of the energy scale (see :yref:`FlexGuard.energyScale`), > 0; inf: off. Only with O.trackEnergy [-]"))
+		((Real, maxKineticRatio, 10, Attr::triggerPostLoad, "Largest kinetic energy (YADE's form, 1/2 m v^2 at the half step) as a multiple of the energy put in (see :yref:`FlexGuard.energyInput`), > 0; inf: off. Only with O.trackEnergy. Catches the linear blow-up of a step above the critical one, which the leap-frog form of the balance cannot see (it stays constant while every term grows). A stable run stays below 1/(1 - (omega dt)^2/4) of it: 1.33 at half the critical step, 10 only within 5% of it [-]"))
 		((std::string, message, "", Attr::readonly, "What was detected (empty: nothing)"))
 		((vector<int>, bodies, , Attr::readonly, "Ids of the bodies involved, worst first"))
 		((long, detectedIter, -1, Attr::readonly, "O.iter at detection (-1: none)"))
@@ -71,7 +72,9 @@ public:
 		((Real, energyScale, 0, Attr::readonly, "Largest sum of |O.energy terms| + |externalWork| seen so far [J]"))
 		((Real, energyResidual, 0, Attr::readonly, "Energy created without external work at the last check, (total - energyStart) - externalWork, taken at the last step's positions: kinetic energy in the form of the leap-frog identity, 1/2 m v_{n-1/2}.v_{n+1/2}, and the work of the step just taken left to the next check (see FlexGuard.cpp) [J]"))
 		((Real, externalWork, 0, Attr::readonly, "Work done on the scene by moving blocked DOFs and permanent forces since energyStart was taken [J]"))
-		((Real, maxStepSeen, 0, Attr::readonly, "Largest |v| dt / contact radius at the last check [-]")),
+		((Real, maxStepSeen, 0, Attr::readonly, "Largest |v| dt / contact radius at the last check [-]"))
+		((Real, energyInput, 0, Attr::readonly, "Energy put in, for maxKineticRatio: the largest |energyStart| + |externalWork| + |work of gravity| (O.energy['gravWork']) + |work of pressure| (O.energy['flexPressureWork']) seen since energyStart was taken [J]"))
+		((Real, kineticSeen, 0, Attr::readonly, "Kinetic energy at the last check, as the integrator booked it in the step just taken (O.energy['kinetic'], or kinTrans + kinRot) [J]")),
 		,
 		.def("reset", &FlexGuard::resetPy, "Forget a detection and the energy reference (the next check starts a new balance).")
 	);

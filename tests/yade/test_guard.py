@@ -104,6 +104,27 @@ def test_time_step_twice_critical_is_stopped_before_any_nan(scene):
     assert O.iter < 5000
 
 
+def test_linear_blow_up_is_caught_by_the_kinetic_energy_check(scene):
+    """Just above the critical step (1.1 x) a linear cantilever's stiffest mode grows ~2.4x a
+    step. The leap-frog balance 1/2 m v-.v+ + U stays constant to round-off through such a
+    blow-up, so the energy check cannot see it; with the step check off, the kinetic energy
+    passing maxKineticRatio x the energy put in (the tip load's work) must stop it while every
+    value is tiny and finite."""
+    s = scenes.cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, damping=0.0)
+    _without_stepper(1.1)
+    O.trackEnergy = True
+    g = _guard()
+    g.maxStepFraction = float("inf")
+    with pytest.raises(RuntimeError, match="maxKineticRatio") as err:
+        for _ in range(2000):
+            O.step()
+    assert str(err.value) == g.message and _all_finite() and O.iter < 100
+    assert abs(g.energyResidual) < 1e-6 * g.energyScale  # the leap-frog balance saw nothing
+    assert g.kineticSeen > g.maxKineticRatio * g.energyInput > 0
+    assert g.energyInput < 1e-4  # stopped at micro-joules (a 1 N tip load), not at the 1e7 J of later
+    assert set(g.bodies) <= set(s["nodes"])
+
+
 def test_stable_step_runs_through(scene):
     scenes.cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, damping=0.0)
     _without_stepper(0.8)
@@ -112,6 +133,8 @@ def test_stable_step_runs_through(scene):
         O.step()
     g = _guard()
     assert g.message == "" and g.detectedIter == -1 and 0 < g.maxStepSeen < g.maxStepFraction
+    # a stable run's kinetic energy stays within 1 / (1 - (omega dt)^2 / 4) of the energy put in
+    assert 0 < g.kineticSeen < g.energyInput / (1 - 0.8 ** 2)
 
 
 def test_undamped_net_impact_has_no_false_alarm(scene):
