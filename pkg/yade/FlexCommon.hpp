@@ -76,8 +76,7 @@ namespace flexa {
 	}
 
 	/// scene->energy->add without building a std::string from the name at every call (the hot
-	/// path, once the term has its index): per contact and per body, this was most of the
-	/// cost of O.trackEnergy.
+	/// path, once the term has its index), called per contact, element and body.
 	inline void addEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)
 	{
 		if (ix >= 0) scene->energy->energies.add(ix, val);

@@ -710,7 +710,8 @@ void FlexNewtonIntegrator::action()
 			// included), kinetic energy before the update, work of gravity -m g.v dt. Unlike
 			// NewtonIntegrator, damping is booked on free DOFs only: a blocked (driven) DOF is not
 			// damped, and booking |v||F| c dt there would claim energy nothing dissipated. Summed
-			// here and booked once per step (booking per body was 5% of a granular step).
+			// here and booked once per step (with addEnergy below, O.trackEnergy went from 9.7% to
+			// 3.8% of a granular step, both changes together, paired).
 			if (damping != 0 && st->isDamped && blocked != State::DOF_ALL) {
 				++nDamp;
 				if (blocked == 0) // the common case
