@@ -91,9 +91,9 @@ namespace {
 BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj, const BeamRest& rest)
 {
 	BeamKinematics k;
-	const Vec3     d = xj - xi;
-	k.L              = d.norm();
-	k.e              = d / k.L;
+	const Chord    ch = chord(xi, xj);
+	k.L               = ch.L;
+	k.e               = ch.e;
 	const Quat Ri = oi * rest.Qi, Rj = oj * rest.Qj;
 	k.thetaI      = rotationBetween(k.e, xAxis(Ri));
 	k.thetaJ      = rotationBetween(k.e, xAxis(Rj));

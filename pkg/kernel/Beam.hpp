@@ -94,6 +94,34 @@ BeamForces beamForces(const BeamKinematics& k, const BeamRest& rest, const BeamS
 /// bending and twist from the section, axial force, energy and rupture from `axial`.
 BeamForces beamForcesWithAxial(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialResult& axial);
 
+/// Chord of a bond: unit vector i -> j and length, computed exactly as in beamKinematics.
+struct Chord {
+	Vec3   e; ///< unit chord i -> j
+	double L; ///< current length [m]
+};
+inline Chord chord(const Vec3& xi, const Vec3& xj)
+{
+	const Vec3   d = xj - xi;
+	const double L = d.norm();
+	return { d / L, L };
+}
+
+/// Axial-only bond (a bar or truss link: no bending or twist stiffness, the nodes' orientations
+/// play no part): F_j = -N e, F_i = +N e, no moments, energy and rupture from `axial`. For a
+/// section with EI = GJ = 0 this is beamForcesWithAxial without the rotations: the same forces
+/// and energy, bit for bit (tests/kernel/test_beam.cpp), at a fraction of the cost.
+inline BeamForces barForces(const Chord& c, const AxialResult& axial)
+{
+	BeamForces f; // moments stay zero
+	f.N             = axial.N;
+	f.plasticWork   = axial.plasticWork;
+	f.rupture       = axial.rupture;
+	f.Fj            = -f.N * c.e;
+	f.Fi            = -f.Fj;
+	f.elasticEnergy = axial.elasticEnergy;
+	return f;
+}
+
 /// Local 12x12 Euler-Bernoulli stiffness, element axis = local x, DOF order
 /// (u_i, theta_i, u_j, theta_j).
 Eigen::Matrix<double, 12, 12> beamStiffnessLocal(const BeamSection& s, double L);

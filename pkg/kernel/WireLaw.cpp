@@ -101,30 +101,25 @@ double wireEnvelope(const WireCurve& c, const WireDistortion& d, double e)
 	return s;
 }
 
-WireAxial wireAxial(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st)
+WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st)
 {
 	WireAxial    r;
 	const double Ew  = c.elasticModulus();
 	const double vol = L0 * area; // stress x strain -> energy [J]
-	double       s;
-	if (strain > st.maxStrain) { // on the envelope
-		double ke[kMaxPoints + 2], ks[kMaxPoints + 2];
-		const int    m     = wireEnvelopeKnots(c, d, ke, ks);
-		const double eLast = ke[m - 1];
-		r.rupture          = strain > eLast * (1 + kRuptureRelTol);
-		const double e     = std::min(strain, eLast);
-		double       sOld, wOld, wNew;
-		envelopeAt(ke, ks, m, st.maxStrain, sOld, wOld);
-		envelopeAt(ke, ks, m, e, s, wNew);
-		// dissipation Dp = W - s^2/(2 Ew): its increment is exact for any step size
-		r.plasticWork    = vol * ((wNew - 0.5 * s * s / Ew) - (wOld - 0.5 * sOld * sOld / Ew));
-		st.maxStrain     = e;
-		st.plasticStrain = e - s / Ew;
-	} else {
-		s = std::max(0.0, Ew * (strain - st.plasticStrain));
-	}
-	r.N             = s * area;
-	r.elasticEnergy = 0.5 * vol * s * s / Ew;
+	double       ke[kMaxPoints + 2], ks[kMaxPoints + 2];
+	const int    m     = wireEnvelopeKnots(c, d, ke, ks);
+	const double eLast = ke[m - 1];
+	r.rupture          = strain > eLast * (1 + kRuptureRelTol);
+	const double e     = std::min(strain, eLast);
+	double       s, sOld, wOld, wNew;
+	envelopeAt(ke, ks, m, st.maxStrain, sOld, wOld);
+	envelopeAt(ke, ks, m, e, s, wNew);
+	// dissipation Dp = W - s^2/(2 Ew): its increment is exact for any step size
+	r.plasticWork    = vol * ((wNew - 0.5 * s * s / Ew) - (wOld - 0.5 * sOld * sOld / Ew));
+	st.maxStrain     = e;
+	st.plasticStrain = e - s / Ew;
+	r.N              = s * area;
+	r.elasticEnergy  = 0.5 * vol * s * s / Ew;
 	return r;
 }
 

@@ -29,6 +29,7 @@
 //                          exactly the area the cycle encloses.
 //   rupture                the elastic energy held at the last point, released when it breaks.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -72,7 +73,19 @@ struct WireAxial {
 	double plasticWork   = 0;     ///< [J] this step
 	bool   rupture       = false; ///< broke this step
 };
-WireAxial wireAxial(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st);
+/// On the envelope (strain > st.maxStrain): out of line.
+WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st);
+inline WireAxial wireAxial(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st)
+{
+	if (strain > st.maxStrain) return wireAxialEnvelope(strain, L0, area, c, d, st);
+	// unloading or reloading below the largest strain reached: the elastic line, no envelope
+	const double Ew = c.elasticModulus();
+	const double s  = std::max(0.0, Ew * (strain - st.plasticStrain));
+	WireAxial    r;
+	r.N             = s * area;
+	r.elasticEnergy = 0.5 * (L0 * area) * s * s / Ew;
+	return r;
+}
 
 /// Uniform number in [0, 1) from a seed and a link's two node ids (order-independent):
 /// a pure function, so the draw does not depend on threads, body order or O.reset().

@@ -277,6 +277,66 @@ TEST(Beam, PureBendingAndTwistEnergyIsQuadraticForm)
 	}
 }
 
+// ---------------------------------------------------------------- bar (axial-only) bonds
+
+// A bar is the beam with EI = GJ = 0 minus the rotations: the same forces and energy bit for bit
+// in any deformed state (elastic, plastic, tension-only, slack), and no moments.
+TEST(Bar, EqualsTheBeamWithoutBendingStiffnessBitForBit)
+{
+	test::Rng   rng(20261123);
+	BeamSection s { 250.0, 0.0, 0.0 };
+	AxialLaw    law;
+	law.tensionOnly = true;
+	law.yieldForce  = 3.0;
+	law.hardening   = 0.05;
+	int loaded = 0, slack = 0, plastic = 0;
+	for (int n = 0; n < 2000; ++n) {
+		Config ref, cur;
+		randomDeformed(rng, ref, cur);
+		const BeamRest rest = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
+		AxialState     stBeam, stBar;
+		const double   L  = (cur.xj - cur.xi).norm();
+		const double   st = (L - rest.L0) / rest.L0;
+		const BeamForces b = beamForces(beamKinematics(cur.xi, cur.xj, cur.oi, cur.oj, rest), rest, s, law, stBeam);
+		const Chord      c = chord(cur.xi, cur.xj);
+		const BeamForces a = barForces(c, axialForce((c.L - rest.L0) / rest.L0, s.EA, rest.L0, law, stBar));
+		ASSERT_EQ(c.L, L);
+		for (int k = 0; k < 3; ++k) { // == also holds for +0 against -0
+			ASSERT_EQ(a.Fi[k], b.Fi[k]);
+			ASSERT_EQ(a.Fj[k], b.Fj[k]);
+			ASSERT_EQ(b.Mi[k], 0.0);
+			ASSERT_EQ(b.Mj[k], 0.0);
+		}
+		EXPECT_TRUE(a.Mi.isZero(0) && a.Mj.isZero(0));
+		ASSERT_EQ(a.N, b.N);
+		ASSERT_EQ(a.elasticEnergy, b.elasticEnergy);
+		ASSERT_EQ(a.plasticWork, b.plasticWork);
+		ASSERT_EQ(stBar.plasticStrain, stBeam.plasticStrain);
+		loaded += a.N > 0;
+		slack += st < 0;
+		plastic += a.plasticWork > 0;
+	}
+	// the random states cover every branch of the law
+	EXPECT_GT(loaded, 100);
+	EXPECT_GT(slack, 100);
+	EXPECT_GT(plastic, 10);
+}
+
+TEST(Bar, ForcesAreAxialAndBalanced)
+{
+	const Vec3  xi(0.1, -0.2, 0.3), xj(1.1, 0.8, 0.3);
+	const Chord c = chord(xi, xj);
+	EXPECT_DOUBLE_EQ(c.L, std::sqrt(2.0));
+	AxialResult ax;
+	ax.N             = 7.0;
+	ax.elasticEnergy = 0.25;
+	const BeamForces f = barForces(c, ax);
+	EXPECT_TRUE(close(f.Fi, Vec3(7.0 * (xj - xi) / std::sqrt(2.0)), 1e-15)); // tension pulls i towards j
+	EXPECT_TRUE(close(f.Fi + f.Fj, Vec3::Zero(), 0, 0));
+	EXPECT_NEAR(f.Fi.cross(c.e).norm(), 0.0, 1e-15);
+	EXPECT_EQ(f.elasticEnergy, 0.25);
+}
+
 // ---------------------------------------------------------------- axial law
 
 TEST(AxialLaw, Elastic)
