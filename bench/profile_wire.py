@@ -19,12 +19,15 @@ from yadeflex import mesh, tensile, wire  # noqa: E402
 me = next((k for k, a in enumerate(sys.argv) if a.endswith("profile_wire.py")), 0)
 ap = argparse.ArgumentParser(prog="profile_wire.py")
 ap.add_argument("--steps", type=int, default=3000)
+ap.add_argument("--links", choices=("beam", "bar"), default="beam",
+                help="beam: links with bending and twist (the default mesh); bar: axial-only links (bending_factor 0, as WirePM)")
 a = ap.parse_args(sys.argv[me + 1:])
 if a.steps < 1:
     ap.error("--steps must be positive")
 cal = mesh.TECCO_MESH_CALIBRATION
 s = tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.05, damping=0.2,
-                             material=wire.tecco_wire(slack_scale=cal["slack_scale"], force_ratio=cal["force_ratio"]))
+                             material=wire.tecco_wire(slack_scale=cal["slack_scale"], force_ratio=cal["force_ratio"],
+                                                      bending_factor=1.0 if a.links == "beam" else 0.0))
 for _ in range(200):
     O.step()
 O.timingEnabled = True

@@ -222,6 +222,9 @@ class FlexElementEngine : public GlobalEngine {
 	// and dropping the last one here, in O.run()'s worker thread without the GIL, aborts YADE.
 	std::vector<shared_ptr<Body>> rupturedBodies;
 	size_t                  cachedBodyCount = 0;
+	std::vector<int>        slotOf;     // body id -> index in slotNode (-1: not a cylinder node)
+	std::vector<Body::id_t> slotNode;   // the cylinders' nodes
+	std::vector<Vector3r>   accF, accM; // per-node sums of the serial element loop
 	void                    refresh();
 	void                    facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
 
@@ -289,6 +292,14 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	bool              simple          = false; // no clump, no aspherical body: the fast path applies
 	void              refresh();
 	void              flagElements(); // collider trigger from element nodes (both paths)
+	// the same trigger per node on the fast path (see buildNodeTable in FlexEngines.cpp)
+	std::vector<char>     isMover;
+	std::vector<Real>     nodeSweep; // smallest sweep of the bounds of the node's elements, -1: none
+	std::vector<Vector3r> nodeRef;   // node position when those bounds were built
+	Real                  nodeBase    = 0; // 0.5 if some element has a bound (flagElements' "inside")
+	bool                  nodeTableOk = false;
+	long                  tableRuns = -2, tableErasures = -1;
+	bool                  buildNodeTable();
 
 public:
 	void action() override;

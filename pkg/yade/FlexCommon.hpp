@@ -75,6 +75,14 @@ namespace flexa {
 		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
 	}
 
+	/// Counts the elements FlexElementEngine has erased (rupture), in any scene: FlexNewtonIntegrator
+	/// rebuilds its node table of the collider trigger when it changes.
+	inline long& elementErasures()
+	{
+		static long n = 0;
+		return n;
+	}
+
 	/// scene->energy->add without building a std::string from the name at every call (the hot
 	/// path, once the term has its index), called per contact, element and body.
 	inline void addEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)

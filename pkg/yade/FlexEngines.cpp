@@ -27,6 +27,17 @@ void FlexElementEngine::refresh()
 		else if (dynamic_cast<const FlexFacet*>(b->shape.get()))
 			facets.push_back(b->id);
 	}
+	// the cylinders' nodes, for the serial loop's force sums (one addForce per node, not per element end)
+	slotOf.assign(scene->bodies->size(), -1);
+	slotNode.clear();
+	for (Body::id_t id : cylinders) {
+		const FlexCylinder& c = static_cast<const FlexCylinder&>(*(*scene->bodies)[id]->shape);
+		for (int nid : { c.node1, c.node2 })
+			if (nid >= 0 && nid < (int)slotOf.size() && slotOf[nid] < 0) {
+				slotOf[nid] = (int)slotNode.size();
+				slotNode.push_back(nid);
+			}
+	}
 	cachedBodyCount = scene->bodies->size();
 }
 
@@ -40,8 +51,19 @@ void FlexElementEngine::action()
 	const Material* lastMat  = nullptr; // elements mostly share a material: cast it once
 	const FlexMat*  lastFlex = nullptr;
 	auto&           bodies   = *scene->bodies;
+	// energies summed here and booked once per step (not twice per element)
+	Real eElastic = 0, ePlastic = 0;
+	long nPlastic = 0;
+	// Serial loop (the common case below parallelMin): forces and moments summed per node here and
+	// added to the ForceContainer once per node (each addForce costs a thread lookup and a size check)
+	const bool serial = n < parallelMin;
+	if (serial) {
+		accF.assign(slotNode.size(), Vector3r::Zero());
+		accM.assign(slotNode.size(), Vector3r::Zero());
+	}
+	bool anyMoment = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, lastFlex)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, lastFlex) reduction(+ : eElastic, ePlastic, nPlastic)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t id = cylinders[k];
@@ -58,32 +80,62 @@ void FlexElementEngine::action()
 		const FlexMat* mat = lastFlex;
 		if (!bi || !bj || !mat) continue;
 		State *si = bi->state.get(), *sj = bj->state.get();
-		flex::BeamRest rest;
-		rest.L0 = c.L0;
-		rest.Qi = c.Q1;
-		rest.Qj = c.Q2;
+		const bool       wire = mat->isWire();
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
-		const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
-		const flex::BeamForces     f   = mat->isWire()
-		              ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, (kin.L - c.L0) / c.L0))
-		              : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
-		if (!mat->isWire()) {
+		flex::BeamForces f;
+		Real             L;
+		// a bond without bending or twist stiffness (bendingFactor 0: a bar, or a truss link of a
+		// wire mesh) is axial only: no rotations to compute and no moments (tests/kernel/test_beam.cpp:
+		// the same forces bit for bit as the beam with EI = GJ = 0)
+		const bool bar = mat->bendingFactor == 0;
+		if (bar) {
+			const flex::Chord ch = flex::chord(si->pos, sj->pos);
+			const Real        e  = (ch.L - c.L0) / c.L0;
+			L                    = ch.L;
+			f = flex::barForces(ch, wire ? flexa::wireAxial(*mat, c, e) : flex::axialForce(e, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
+		} else {
+			flex::BeamRest rest;
+			rest.L0                        = c.L0;
+			rest.Qi                        = c.Q1;
+			rest.Qj                        = c.Q2;
+			const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
+			L                              = kin.L;
+			f                              = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, (kin.L - c.L0) / c.L0))
+			                                      : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
+		}
+		if (!wire) {
 			c.plasticStrain = st.plasticStrain;
 			c.hardeningVar  = st.hardeningVar;
 		}
-		c.axialForce                   = f.N;
-		c.strain                       = (kin.L - c.L0) / c.L0;
-		c.elasticEnergy                = f.elasticEnergy;
-		scene->forces.addForce(c.node1, f.Fi);
-		scene->forces.addForce(c.node2, f.Fj);
-		scene->forces.addTorque(c.node1, f.Mi);
-		scene->forces.addTorque(c.node2, f.Mj);
+		c.axialForce    = f.N;
+		c.strain        = (L - c.L0) / c.L0;
+		c.elasticEnergy = f.elasticEnergy;
+		const int s1 = serial ? slotOf[c.node1] : -1, s2 = serial ? slotOf[c.node2] : -1;
+		if (s1 >= 0 && s2 >= 0) {
+			accF[s1] += f.Fi;
+			accF[s2] += f.Fj;
+			if (!bar) {
+				accM[s1] += f.Mi;
+				accM[s2] += f.Mj;
+				anyMoment = true;
+			}
+		} else {
+			scene->forces.addForce(c.node1, f.Fi);
+			scene->forces.addForce(c.node2, f.Fj);
+			if (!bar) {
+				scene->forces.addTorque(c.node1, f.Mi);
+				scene->forces.addTorque(c.node2, f.Mj);
+			}
+		}
 		// the element body follows its nodes (output, display; it has no DOF)
 		b->state->pos    = 0.5 * (si->pos + sj->pos);
 		b->state->vel    = 0.5 * (si->vel + sj->vel);
 		if (energy) {
-			flexa::addEnergy(scene, f.elasticEnergy, "flexBondElastic", elastIx, true);
-			if (f.plasticWork != 0) flexa::addEnergy(scene, f.plasticWork, "flexBondPlastic", plastIx, false);
+			eElastic += f.elasticEnergy;
+			if (f.plasticWork != 0) {
+				ePlastic += f.plasticWork;
+				++nPlastic;
+			}
 		}
 		if (f.rupture) {
 #ifdef YADE_OPENMP
@@ -91,6 +143,16 @@ void FlexElementEngine::action()
 #endif
 			broken.push_back(id);
 		}
+	}
+	if (serial)
+		for (size_t i = 0; i < slotNode.size(); ++i) {
+			if (!bodies[slotNode[i]]) continue;
+			scene->forces.addForce(slotNode[i], accF[i]);
+			if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
+		}
+	if (energy && n > 0) {
+		flexa::addEnergy(scene, eElastic, "flexBondElastic", elastIx, true);
+		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
 	}
 	if (!facets.empty()) facetForces(broken);
 	{ // erase the collider pairs of bonded neighbours reported by the Ig2 (see FlexCommon.hpp)
@@ -118,6 +180,7 @@ void FlexElementEngine::action()
 		}
 		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see Flex.hpp)
 		scene->bodies->erase(id, false); // erases its interactions too: no ghost element
+		++flexa::elementErasures();
 		rupturedIds.push_back(id);
 		++nRuptured;
 	}
@@ -133,8 +196,10 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 	auto&                  bodies = *scene->bodies;
 	const Real             dt     = scene->dt;
 	const long             n      = (long)facets.size();
+	Real eMemb = 0, ePress = 0;
+	long nPress = 0;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law) reduction(+ : eMemb, ePress, nPress)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t id = facets[k];
@@ -168,9 +233,12 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 		b->state->pos = (x[0] + x[1] + x[2]) / 3;
 		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
 		if (energy) {
-			flexa::addEnergy(scene, r.energy, "flexMembraneElastic", membIx, true);
+			eMemb += r.energy;
 			// work done BY the pressure, booked with the opposite sign like YADE's gravWork
-			if (f.pressure != 0) flexa::addEnergy(scene, -fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt, "flexPressureWork", pressIx, false);
+			if (f.pressure != 0) {
+				ePress += -fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt;
+				++nPress;
+			}
 		}
 		if (r.rupture) {
 #ifdef YADE_OPENMP
@@ -178,6 +246,10 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 #endif
 			broken.push_back(id);
 		}
+	}
+	if (energy && n > 0) {
+		flexa::addEnergy(scene, eMemb, "flexMembraneElastic", membIx, true);
+		if (nPress) flexa::addEnergy(scene, ePress, "flexPressureWork", pressIx, false);
 	}
 }
 
@@ -609,7 +681,11 @@ void FlexNewtonIntegrator::refresh()
 		else
 			movers.push_back(b->id);
 	}
+	isMover.assign(scene->bodies->size(), 0);
+	for (Body::id_t id : movers)
+		isMover[id] = 1;
 	cachedBodyCount = scene->bodies->size();
+	tableRuns       = -2; // rebuild the node table
 }
 
 // The collider re-runs when some bounded body left the sweep of its bound; NewtonIntegrator
@@ -642,6 +718,57 @@ void FlexNewtonIntegrator::flagElements()
 	maxVelocitySq = std::max(maxVelocitySq, flag);
 }
 
+// The same trigger per node, for the fast path: every bound is rebuilt from the nodes' current
+// positions whenever the collider runs (BoundDispatcher processes all bodies), so all elements at
+// a node share its reference position. An element's test "some node moved by d != 0, d >= its
+// sweep" is then "some node moved by d != 0, d >= the smallest sweep of its elements": one test per
+// node in the integrator's own loop instead of one pass over all elements per step. The table is
+// rebuilt when the collider ran, bodies were added or an element was erased; if two elements
+// disagree on a node's reference (a bound built some other way), flagElements is used instead.
+bool FlexNewtonIntegrator::buildNodeTable()
+{
+	const auto&  bodies = *scene->bodies;
+	const size_t n      = bodies.size();
+	nodeSweep.assign(n, -1);
+	nodeRef.resize(n);
+	nodeBase = 0;
+	auto addElement = [&](const Body& b, const int* nodes, const Vector3r* refs, int nNodes) -> bool {
+		for (int k = 0; k < nNodes; ++k)
+			if (!flexa::stateOf(scene, nodes[k])) return true; // skipped, as in flagElements
+		nodeBase         = 0.5;
+		const Real sweep = b.bound->sweepLength;
+		for (int k = 0; k < nNodes; ++k) {
+			const Body::id_t nid = nodes[k];
+			if (!isMover[nid]) return false; // not integrated in the fast loop (a clump member)
+			Real& sw = nodeSweep[nid];
+			if (sw < 0) {
+				sw           = sweep;
+				nodeRef[nid] = refs[k];
+			} else if (nodeRef[nid] != refs[k]) return false;
+			else
+				sw = std::min(sw, sweep);
+		}
+		return true;
+	};
+	for (Body::id_t id : elements) {
+		const shared_ptr<Body>& b = bodies[id];
+		if (!b || !b->bound) continue;
+		const FlexCylinder* c        = static_cast<const FlexCylinder*>(b->shape.get());
+		const int           nodes[2] = { c->node1, c->node2 };
+		const Vector3r      refs[2]  = { c->boundRef1, c->boundRef2 };
+		if (!addElement(*b, nodes, refs, 2)) return false;
+	}
+	for (Body::id_t id : facets) {
+		const shared_ptr<Body>& b = bodies[id];
+		if (!b || !b->bound) continue;
+		const FlexFacet* f        = static_cast<const FlexFacet*>(b->shape.get());
+		const int        nodes[3] = { f->node1, f->node2, f->node3 };
+		const Vector3r   refs[3]  = { f->boundRef1, f->boundRef2, f->boundRef3 };
+		if (!addElement(*b, nodes, refs, 3)) return false;
+	}
+	return true;
+}
+
 namespace {
 	// The collider trigger of NewtonIntegrator::saveMaximaDisplacement (2: a body left the sweep
 	// of its bound, 0.5: inside), into a per-thread maximum; Clump::moveMembers calls it for members.
@@ -668,6 +795,18 @@ void FlexNewtonIntegrator::action()
 	scene->forces.sync();
 	const Real dt    = scene->dt;
 	const bool track = scene->trackEnergy;
+	long       runs  = -1;
+	for (const auto& e : scene->engines)
+		if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) runs = c->numAction;
+	if (runs < 0) nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
+	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
+		nodeTableOk    = buildNodeTable();
+		tableRuns      = runs;
+		tableErasures  = flexa::elementErasures();
+	}
+	const bool  byNode = nodeTableOk;
+	const Real* nSweep = nodeSweep.data();
+	const Vector3r* nRef = nodeRef.data();
 #ifdef YADE_OPENMP
 	const int nThr = omp_get_max_threads();
 #else
@@ -761,6 +900,10 @@ void FlexNewtonIntegrator::action()
 			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
 		}
 		st->ori.normalize();
+		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
+			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
+			if (!(d == 0 || d < nSweep[id])) mx = 2;
+		}
 		MemberSweep sweep { mx };
 		sweep.saveMaximaDisplacement(b); // collider trigger, as NewtonIntegrator
 		if (b->isClump()) Clump::moveMembers(b, scene, &sweep);
@@ -777,7 +920,9 @@ void FlexNewtonIntegrator::action()
 	maxVelocitySq = 0;
 	for (Real v : thrMax)
 		maxVelocitySq = std::max(maxVelocitySq, v);
-	flagElements();
+	if (byNode) maxVelocitySq = std::max(maxVelocitySq, nodeBase);
+	else
+		flagElements();
 }
 
 } // namespace yade
