@@ -106,16 +106,46 @@ WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCur
 	WireAxial    r;
 	const double Ew  = c.elasticModulus();
 	const double vol = L0 * area; // stress x strain -> energy [J]
-	double       ke[kMaxPoints + 2], ks[kMaxPoints + 2];
-	const int    m     = wireEnvelopeKnots(c, d, ke, ks);
-	const double eLast = ke[m - 1];
+	// the envelope's knots (wireEnvelopeKnots) generated on the fly, without copying them
+	const bool soft = d.slack > 0 && d.forceRatio < 1;
+	const int  m    = c.n + (soft ? 2 : 1);
+	auto       knot = [&](int j, double& e, double& s) {
+                if (j == 0) e = s = 0;
+                else if (soft && j == 1) {
+                        e = d.slack + d.forceRatio * c.strain[0];
+                        s = d.forceRatio * c.stress[0];
+                } else {
+                        const int k = j - (soft ? 2 : 1);
+                        e           = d.slack + c.strain[k];
+                        s           = c.stress[k];
+                }
+	};
+	const double eLast = d.slack + c.strain[c.n - 1];
 	r.rupture          = strain > eLast * (1 + kRuptureRelTol);
-	const double e     = std::min(strain, eLast);
-	double       s, sOld, wOld, wNew;
-	envelopeAt(ke, ks, m, st.maxStrain, sOld, wOld);
-	envelopeAt(ke, ks, m, e, s, wNew);
+	// stress s and area W = integral_0^x env at x = maxStrain and at x = e >= maxStrain, in one
+	// pass over the segments (the same operations, in the same order, as envelopeAt at each x)
+	const double q[2]  = { st.maxStrain, std::min(strain, eLast) };
+	double       qs[2] = { 0, 0 }, qw[2] = { 0, 0 };
+	int          next  = 0;
+	while (next < 2 && q[next] <= 0)
+		++next;
+	double W = 0, e0, s0;
+	knot(0, e0, s0);
+	for (int j = 1; j < m && next < 2; ++j) {
+		double e1, s1;
+		knot(j, e1, s1);
+		for (; next < 2 && (q[next] <= e1 || j == m - 1); ++next) {
+			const double x = std::min(q[next], e1);
+			qs[next]       = s0 + (s1 - s0) * (x - e0) / (e1 - e0);
+			qw[next]       = W + 0.5 * (s0 + qs[next]) * (x - e0);
+		}
+		W += 0.5 * (s0 + s1) * (e1 - e0);
+		e0 = e1;
+		s0 = s1;
+	}
+	const double e = q[1], s = qs[1], sOld = qs[0];
 	// dissipation Dp = W - s^2/(2 Ew): its increment is exact for any step size
-	r.plasticWork    = vol * ((wNew - 0.5 * s * s / Ew) - (wOld - 0.5 * sOld * sOld / Ew));
+	r.plasticWork    = vol * ((qw[1] - 0.5 * s * s / Ew) - (qw[0] - 0.5 * sOld * sOld / Ew));
 	st.maxStrain     = e;
 	st.plasticStrain = e - s / Ew;
 	r.N              = s * area;

@@ -192,6 +192,78 @@ TEST(WireLaw, DistortionShiftsTheCurveBehindASoftBranch)
 	EXPECT_TRUE(wireAxial((d.slack + kStrain.back()) * (1 + 1e-8), kL0, kArea, curve(), d, st2).rupture);
 }
 
+// The envelope branch evaluated from wireEnvelopeKnots' arrays, twice (at maxStrain and at the
+// new strain), as it was before the single pass over implicit knots: the reference that pass must
+// reproduce bit for bit.
+WireAxial envelopeReference(double strain, const WireDistortion& d, WireState& st)
+{
+	double    ke[70], ks[70];
+	const int m   = wireEnvelopeKnots(curve(), d, ke, ks);
+	auto      at  = [&](double e, double& s, double& W) {
+                s = W = 0;
+                if (e <= 0) return;
+                for (int k = 1; k < m; ++k) {
+                        const double e0 = ke[k - 1], e1 = ke[k], s0 = ks[k - 1], s1 = ks[k];
+                        if (e <= e1 || k == m - 1) {
+                                const double x = std::min(e, e1);
+                                s              = s0 + (s1 - s0) * (x - e0) / (e1 - e0);
+                                W += 0.5 * (s0 + s) * (x - e0);
+                                return;
+                        }
+                        W += 0.5 * (s0 + s1) * (e1 - e0);
+                }
+	};
+	const double Ew = curve().elasticModulus(), vol = kL0 * kArea, eLast = ke[m - 1];
+	WireAxial    r;
+	r.rupture      = strain > eLast * (1 + 1e-9);
+	const double e = std::min(strain, eLast);
+	double       s, sOld, wOld, wNew;
+	at(st.maxStrain, sOld, wOld);
+	at(e, s, wNew);
+	r.plasticWork    = vol * ((wNew - 0.5 * s * s / Ew) - (wOld - 0.5 * sOld * sOld / Ew));
+	st.maxStrain     = e;
+	st.plasticStrain = e - s / Ew;
+	r.N              = s * kArea;
+	r.elasticEnergy  = 0.5 * vol * s * s / Ew;
+	return r;
+}
+
+TEST(WireLaw, EnvelopeBranchMatchesTheKnotArraysBitForBit)
+{
+	test::Rng rng(2026);
+	int       soft = 0, straight = 0, fromZero = 0, broken = 0, sameSegment = 0;
+	for (int trial = 0; trial < 20000; ++trial) {
+		// slack 0, straight (lf = 1) and soft (lf < 1) links; from rest or already on the envelope
+		const int      kind = trial % 3;
+		WireDistortion d { kind == 0 ? 0.0 : rng.uniform(0, 0.05), kind == 2 ? rng.uniform(0.05, 1.0) : 1.0 };
+		const double   eEnd = d.slack + kStrain.back();
+		WireState      a;
+		a.maxStrain       = trial % 5 == 0 ? 0.0 : rng.uniform(0, eEnd);
+		a.plasticStrain   = a.maxStrain - wireEnvelope(curve(), d, a.maxStrain) / curve().elasticModulus();
+		WireState    b    = a;
+		const double next = a.maxStrain + (trial % 4 == 0 ? rng.uniform(0, 1e-5) : rng.uniform(0, 1.1 * eEnd));
+		const WireAxial x = wireAxialEnvelope(next, kL0, kArea, curve(), d, a);
+		const WireAxial y = envelopeReference(next, d, b);
+		ASSERT_EQ(x.N, y.N) << "trial " << trial;
+		ASSERT_EQ(x.plasticWork, y.plasticWork) << "trial " << trial;
+		ASSERT_EQ(x.elasticEnergy, y.elasticEnergy) << "trial " << trial;
+		ASSERT_EQ(x.rupture, y.rupture) << "trial " << trial;
+		ASSERT_EQ(a.maxStrain, b.maxStrain) << "trial " << trial;
+		ASSERT_EQ(a.plasticStrain, b.plasticStrain) << "trial " << trial;
+		soft += d.slack > 0 && d.forceRatio < 1;
+		straight += d.forceRatio == 1;
+		fromZero += b.maxStrain > 0 && trial % 5 == 0;
+		broken += x.rupture;
+		sameSegment += trial % 4 == 0;
+	}
+	// every branch was taken
+	EXPECT_GT(soft, 1000);
+	EXPECT_GT(straight, 1000);
+	EXPECT_GT(fromZero, 1000);
+	EXPECT_GT(broken, 100);
+	EXPECT_GT(sameSegment, 1000);
+}
+
 TEST(WireSlack, DeterministicOrderFreeAndSeedDependent)
 {
 	EXPECT_EQ(wireSlackDraw(7, 10, 11, 0.1), wireSlackDraw(7, 10, 11, 0.1));
