@@ -7,15 +7,15 @@
 # the same wire curve (yadeflex.wire.TECCO_WIRE_*) and the same distortion (slack scale 0.036,
 # force ratio 1: WirePM type 2 with lambda_u, lambda_F). The built-in panel comes from
 # bench/builtin_wire.py (BUILTIN_DIR: where it is, default this directory): spheres with
-# WirePM links, no contact between wires. yade-flex: FlexCylinder legs, with cylinder contacts
-# and bending. Both are pulled along the spirals (y). Time per step: median of REPS x STEPS
+# WirePM links, no contact between wires. yade-flex, twice: FlexCylinder legs with cylinder
+# contacts, once as beams (bending and twist, the default mesh) and once as bars (axial only,
+# bending_factor 0: the model class of WirePM, plus the contacts). All are pulled along the spirals (y). Time per step: median of REPS x STEPS
 # O.step() calls after a warm-up, with the top row moving (links loaded); per link-step =
 # per step / links. Tensile curves: peak force per metre width. Writes
 # bench/results/wire_timing.csv, wire_curves.csv and wire_machine.txt.
 import csv
 import math
 import os
-import platform
 import statistics
 import sys
 import time
@@ -29,6 +29,7 @@ args = [a for a in sys.argv[1:] if not a.startswith("--")]
 builtin_dir = args[0] if args else HERE
 quick = "--quick" in sys.argv
 sys.path.insert(0, builtin_dir)
+sys.path.insert(0, HERE)
 try:
     import builtin_wire as bw
 except ImportError:
@@ -59,44 +60,55 @@ def builtin_panel():
                     strain_stress=CURVE, wire_type=2, lambda_u=SLACK, lambda_F=RATIO, seed=12345, damping=0.2)
 
 
-def flex_panel(speed):
+FLEX = {"yade-flex": 1.0, "yade-flex bars": 0.0}  # implementation -> bending_factor
+
+
+def flex_panel(speed, bending_factor=1.0):
     return tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=speed, damping=0.2,
-                                    material=wire.tecco_wire(slack_scale=SLACK, force_ratio=RATIO))
+                                    material=wire.tecco_wire(slack_scale=SLACK, force_ratio=RATIO, bending_factor=bending_factor))
 
 
 rows = []
-for rep in range(1 if quick else 3):  # interleaved: built-in, yade-flex, built-in, ...
+for rep in range(1 if quick else 3):  # interleaved: built-in, yade-flex beams, yade-flex bars, built-in, ...
     info = builtin_panel()
     t = bw.time_per_link_step(STEPS, REPS, WARMUP, velocity=0.05)
     rows.append(dict(impl="builtin WirePM", round=rep, links=t["links"], bodies=len(O.bodies), interactions=t["interactions"], dt=O.dt,
                      us_per_step=t["us_per_step"], us_per_link_step=t["us_per_link_step"], contacts="none"))
-    s = flex_panel(0.05)
-    O.step()
-    med, _ = time_steps()
-    nl = sum(1 for c in s["cylinders"] if O.bodies[c] is not None)
-    rows.append(dict(impl="yade-flex", round=rep, links=nl, bodies=len(O.bodies), interactions=len(O.interactions), dt=O.dt,
-                     us_per_step=med, us_per_link_step=med / nl, contacts="cylinder-cylinder, sphere-cylinder"))
-    for r in rows[-2:]:
+    for impl, bf in FLEX.items():
+        s = flex_panel(0.05, bf)
+        O.step()
+        med, _ = time_steps()
+        nl = sum(1 for c in s["cylinders"] if O.bodies[c] is not None)
+        rows.append(dict(impl=impl, round=rep, links=nl, bodies=len(O.bodies), interactions=len(O.interactions), dt=O.dt,
+                         us_per_step=med, us_per_link_step=med / nl, contacts="cylinder-cylinder, sphere-cylinder"))
+    for r in rows[-3:]:
         print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r.items()), flush=True)
 
 summary = {}
-for impl in ("builtin WirePM", "yade-flex"):
+for impl in ("builtin WirePM", *FLEX):
     sel = [r for r in rows if r["impl"] == impl]
     summary[impl] = dict(us_per_step=statistics.median(r["us_per_step"] for r in sel),
                          us_per_link_step=statistics.median(r["us_per_link_step"] for r in sel), dt=sel[0]["dt"], links=sel[0]["links"])
-ratio_step = summary["builtin WirePM"]["us_per_link_step"] / summary["yade-flex"]["us_per_link_step"]
-ratio_time = ratio_step * summary["yade-flex"]["dt"] / summary["builtin WirePM"]["dt"]
-print(f"per link-step: built-in {summary['builtin WirePM']['us_per_link_step']:.4f} us, yade-flex "
-      f"{summary['yade-flex']['us_per_link_step']:.4f} us -> yade-flex {ratio_step:.2f}x; per simulated second {ratio_time:.2f}x")
+ref = summary["builtin WirePM"]
+for impl in FLEX:
+    d = summary[impl]
+    # the median of the per-round ratios (each round: both sides under the same load)
+    per_round = [b["us_per_link_step"] / f["us_per_link_step"] for b, f in
+                 zip((r for r in rows if r["impl"] == "builtin WirePM"), (r for r in rows if r["impl"] == impl))]
+    d.update(speedup_per_link_step=statistics.median(per_round), speedup_per_simulated_s=statistics.median(per_round) * d["dt"] / ref["dt"])
+    print(f"per link-step: built-in {ref['us_per_link_step']:.4f} us, {impl} {d['us_per_link_step']:.4f} us -> "
+          f"{d['speedup_per_link_step']:.2f}x (median of the rounds' ratios {', '.join(f'{x:.2f}' for x in per_round)}); "
+          f"per simulated second {d['speedup_per_simulated_s']:.2f}x")
 
 # tensile curves (one run each, quasi-static 1 m/s)
 curves = {}
 info = builtin_panel()
 res = bw.pull(velocity=1.0, max_elongation=0.3 * info["size_y"], record_every=200, max_steps=2_000_000)
 curves["builtin WirePM"] = [(u / info["size_y"], f / info["size_x"]) for u, f, _ in res["curve"]]
-s = flex_panel(1.0)
-r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
-curves["yade-flex"] = list(zip(r["elongation"], r["force_per_m"]))
+for impl, bf in FLEX.items():
+    s = flex_panel(1.0, bf)
+    r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    curves[impl] = list(zip(r["elongation"], r["force_per_m"]))
 for impl, c in curves.items():
     pk = max(c, key=lambda p: p[1])
     summary[impl].update(peak_kN_per_m=pk[1] / 1e3, elongation_at_peak=pk[0])
@@ -107,7 +119,8 @@ with open(os.path.join(out, "wire_timing.csv"), "w", newline="") as fh:
     w.writeheader()
     w.writerows(rows)
 with open(os.path.join(out, "wire_summary.csv"), "w", newline="") as fh:
-    keys = ["impl", "links", "dt", "us_per_step", "us_per_link_step", "peak_kN_per_m", "elongation_at_peak"]
+    keys = ["impl", "links", "dt", "us_per_step", "us_per_link_step", "speedup_per_link_step", "speedup_per_simulated_s",
+            "peak_kN_per_m", "elongation_at_peak"]
     w = csv.writer(fh)
     w.writerow(keys)
     for impl, d in summary.items():
@@ -117,6 +130,8 @@ with open(os.path.join(out, "wire_curves.csv"), "w", newline="") as fh:
     w.writerow(["impl", "elongation", "force_per_m"])
     for impl, c in curves.items():
         w.writerows([impl, e, f] for e, f in c)
+from machine import machine_line  # noqa: E402  (bench/machine.py, next to this script)
+
 with open(os.path.join(out, "wire_machine.txt"), "w") as fh:
-    fh.write(f"{platform.node()} {platform.processor() or platform.machine()} {os.cpu_count()} cpus, {time.strftime('%Y-%m-%d')}, "
-             f"threads {O.numThreads}, steps {STEPS} x {REPS} (median), warm-up {WARMUP}\n")
+    fh.write(machine_line().rstrip("\n") + f"; threads {O.numThreads}, steps {STEPS} x {REPS} (median), warm-up {WARMUP}, "
+             f"{1 if quick else 3} interleaved rounds\n")

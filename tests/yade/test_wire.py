@@ -4,7 +4,7 @@ import math
 import os
 
 import pytest
-from yade import O
+from yade import O, Vector3
 from yade.wrapper import FlexElementEngine
 
 import yadeflex as yf
@@ -86,6 +86,41 @@ def test_unload_reload_cycle_follows_elastic_slope_and_dissipates_the_loop_area(
     area = sum(0.5 * (fs[k] + fs[k - 1]) * (es[k] - es[k - 1]) * L for k in range(1, len(es)))
     assert area > 0
     assert_rel(dissipated_cycle, area, CYCLE_ENERGY_TOL, "booked dissipation vs area of the cycle")
+
+
+def _bent_chain(bending_factor):
+    """Two wire links A-B-C along x, A and C clamped; B pushed 2 mm sideways and held there."""
+    O.reset()
+    mat = wire.wire_material(E_KNOTS, S_KNOTS, slack_scale=0.0, bending_factor=bending_factor)
+    nodes, cyls = yf.chain([(0, 0, 0), (0.1, 0, 0)], R, mat, segments=2, fixed=[0, 2])
+    O.engines = yf.engines(gravity=(0, 0, 0), damping=0.0)
+    O.step()
+    mid = O.bodies[nodes[1]]
+    mid.state.blockedDOFs = "xyzXYZ"
+    mid.state.vel = mid.state.angVel = Vector3(0, 0, 0)
+    mid.state.pos = Vector3(0.05, 0.002, 0)
+    O.step()
+    return nodes, cyls
+
+
+def test_bar_links_carry_axial_forces_along_the_chords_and_no_moment(scene):
+    # bending_factor 0: bar links (axial only, as WirePM's); the knot is a hinge
+    nodes, cyls = _bent_chain(0.0)
+    x = [O.bodies[i].state.pos for i in nodes]
+    n0, n1 = (O.bodies[c].shape.axialForce for c in cyls)
+    L = [(x[1] - x[0]).norm(), (x[2] - x[1]).norm()]
+    strain = (L[0] - 0.05) / 0.05
+    assert strain > 0 and strain < E_KNOTS[0]  # elastic, tension
+    assert_rel(n0, EW * A * strain, 1e-9, "axial force = EA x strain")
+    # the force on the middle node: the two axial forces along the chords, nothing else
+    expected = -n0 * (x[1] - x[0]) / L[0] + n1 * (x[2] - x[1]) / L[1]
+    f = O.forces.f(nodes[1])
+    assert (f - expected).norm() <= 1e-12 * n0, (f, expected)
+    assert sum((O.forces.f(i) for i in nodes), Vector3(0, 0, 0)).norm() <= 1e-12 * n0, "the links' forces balance"
+    assert all(O.forces.t(i) == Vector3(0, 0, 0) for i in nodes), "a bar puts no moment on its nodes"
+    # the same chain with bending: the beams do load the clamped ends with moments
+    nodes, cyls = _bent_chain(1.0)
+    assert O.forces.t(nodes[0]).norm() > 0.1, "a bent beam chain carries moments (> 0.1 N m here)"
 
 
 @pytest.mark.parametrize("strain,stress,message", [
