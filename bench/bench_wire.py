@@ -12,7 +12,8 @@
 # bending_factor 0: the model class of WirePM, plus the contacts). All are pulled along the spirals (y). Time per step: median of REPS x STEPS
 # O.step() calls after a warm-up, with the top row moving (links loaded); per link-step =
 # per step / links. Tensile curves: peak force per metre width. Writes
-# bench/results/wire_timing.csv, wire_curves.csv and wire_machine.txt.
+# bench/results/wire_timing.csv, wire_engines.csv (each engine's time per step, one timed run
+# per round and side), wire_summary.csv, wire_curves.csv and wire_machine.txt.
 import csv
 import math
 import os
@@ -55,6 +56,17 @@ def time_steps():
     return statistics.median(wall), wall
 
 
+def engine_times():
+    """us per step of each engine over one more timed run of STEPS steps (O.timingEnabled)."""
+    for e in O.engines:
+        e.execTime = 0
+    O.timingEnabled = True
+    for _ in range(STEPS):
+        O.step()
+    O.timingEnabled = False
+    return {(e.label or e.__class__.__name__): e.execTime * 1e-3 / STEPS for e in O.engines}
+
+
 def builtin_panel():
     return bw.panel(topology="rhombic", width=1.0, height=1.0, cell=(mesh.TECCO_G65_DX, mesh.TECCO_G65_DY), wire_d=0.003,
                     strain_stress=CURVE, wire_type=2, lambda_u=SLACK, lambda_F=RATIO, seed=12345, damping=0.2)
@@ -68,12 +80,13 @@ def flex_panel(speed, bending_factor=1.0):
                                     material=wire.tecco_wire(slack_scale=SLACK, force_ratio=RATIO, bending_factor=bending_factor))
 
 
-rows = []
+rows, engines = [], []
 for rep in range(1 if quick else 3):  # interleaved: built-in, yade-flex beams, yade-flex bars, built-in, ...
     info = builtin_panel()
     t = bw.time_per_link_step(STEPS, REPS, WARMUP, velocity=0.05)
     rows.append(dict(impl="builtin WirePM", round=rep, links=t["links"], bodies=len(O.bodies), interactions=t["interactions"], dt=O.dt,
                      us_per_step=t["us_per_step"], us_per_link_step=t["us_per_link_step"], contacts="none"))
+    engines += [dict(impl="builtin WirePM", round=rep, engine=k, us_per_step=v) for k, v in t["engines"].items()]
     for impl, bf in FLEX.items():
         s = flex_panel(0.05, bf)
         O.step()
@@ -81,6 +94,7 @@ for rep in range(1 if quick else 3):  # interleaved: built-in, yade-flex beams, 
         nl = sum(1 for c in s["cylinders"] if O.bodies[c] is not None)
         rows.append(dict(impl=impl, round=rep, links=nl, bodies=len(O.bodies), interactions=len(O.interactions), dt=O.dt,
                          us_per_step=med, us_per_link_step=med / nl, contacts="cylinder-cylinder, sphere-cylinder"))
+        engines += [dict(impl=impl, round=rep, engine=k, us_per_step=v) for k, v in engine_times().items()]
     for r in rows[-3:]:
         print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r.items()), flush=True)
 
@@ -100,6 +114,15 @@ for impl in FLEX:
           f"{d['speedup_per_link_step']:.2f}x (median of the rounds' ratios {', '.join(f'{x:.2f}' for x in per_round)}); "
           f"per simulated second {d['speedup_per_simulated_s']:.2f}x")
 
+# where each side's step goes: the median over the rounds of each engine's time (one timed run
+# per round, O.timingEnabled)
+print(f"{'engine (us/step, median of rounds)':36s}" + "".join(f"{i:>16s}" for i in ("builtin WirePM", *FLEX)))
+names = list(dict.fromkeys(r["engine"] for r in engines))
+for name in names:
+    vals = [statistics.median([r["us_per_step"] for r in engines if r["impl"] == i and r["engine"] == name] or [float("nan")])
+            for i in ("builtin WirePM", *FLEX)]
+    print(f"{name:36s}" + "".join(f"{v:16.2f}" for v in vals))
+
 # tensile curves (one run each, quasi-static 1 m/s)
 curves = {}
 info = builtin_panel()
@@ -118,6 +141,10 @@ with open(os.path.join(out, "wire_timing.csv"), "w", newline="") as fh:
     w = csv.DictWriter(fh, fieldnames=list(rows[0]))
     w.writeheader()
     w.writerows(rows)
+with open(os.path.join(out, "wire_engines.csv"), "w", newline="") as fh:
+    w = csv.DictWriter(fh, fieldnames=list(engines[0]))
+    w.writeheader()
+    w.writerows(engines)
 with open(os.path.join(out, "wire_summary.csv"), "w", newline="") as fh:
     keys = ["impl", "links", "dt", "us_per_step", "us_per_link_step", "speedup_per_link_step", "speedup_per_simulated_s",
             "peak_kN_per_m", "elongation_at_peak"]

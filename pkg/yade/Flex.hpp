@@ -57,7 +57,7 @@ public:
 		"Material of deformable elements (yade-flex). ``young`` is Young's modulus of the element and also enters the contact stiffness; ``poisson`` keeps FrictMat's meaning (ks/kn of contacts); the beam's shear modulus uses :yref:`FlexMat.beamPoisson`.",
 		((Real, elementYoung, NaN, , "Young's modulus of the element (beam, bar) if it differs from the contact modulus ``young`` [Pa]; NaN: ``young``. A contact modulus below the material's (common DEM practice for steel wires) lengthens the time step without changing the structure's stiffness."))
 		((Real, beamPoisson, 0.3, , "Poisson ratio of the element material for G = E/(2(1+nu)) [-]"))
-		((Real, bendingFactor, 1.0, , "Scale of bending and torsion stiffness relative to a solid bar [-] (ropes: well below 1)"))
+		((Real, bendingFactor, 1.0, , "Scale of bending and torsion stiffness relative to a solid bar [-] (ropes: well below 1; 0: an axial-only bar, no moments, the element loop skips the rotations)"))
 		((bool, tensionOnly, false, , "Bonds carry no compression (ropes, wires) [-]"))
 		((Real, yieldStress, std::numeric_limits<Real>::infinity(), , "Axial yield stress [Pa]; plastic elongation beyond it"))
 		((Real, hardening, 0.0, , "Post-yield axial stiffness as a fraction of EA [-]"))

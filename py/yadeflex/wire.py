@@ -24,7 +24,11 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
     """FlexMat with the wire law. strain [-], stress [Pa]: the curve's points (origin implied);
     young [Pa]: bending stiffness, and contact stiffness unless contact_young [Pa] is given
     (default: the curve's first slope); density
-    [kg/m3]; slack_scale [-], force_ratio [-], seed: distortion (see module doc).
+    [kg/m3]; slack_scale [-], force_ratio [-], seed: distortion (see module doc);
+    bending_factor [-]: bending and twist stiffness relative to a solid wire. 1 (default): beam
+    links, so a knot transmits moments; 0: bar links, axial only, the knot a hinge (the model
+    class of YADE's WirePM, with the cylinder contacts added); a bar link skips the rotations
+    and is about twice as cheap per step (bench/bench_wire.py).
     Raises ValueError naming the problem for a bad curve or distortion parameters."""
     try:
         e = [float(x) for x in strain]
