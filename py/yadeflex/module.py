@@ -161,7 +161,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 9  # 8: saved without engines; 9: dense filling (frictionless first)
+        d["_version"] = 10  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -255,11 +255,14 @@ def build_filled(params, progress=None):
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill, dense", s, ke)))
-    # then the fill's own friction and rolling resistance, on the existing contacts too
+    # then the fill's own friction and rolling resistance, on the existing contacts too (as
+    # Ip2_FrictMat_FrictMat_FrictPhys sets it: the smaller angle of the two materials, so the
+    # container stays frictionless)
     gmat.frictionAngle = phi
     for i in O.interactions:
         if i.isReal and hasattr(i.phys, "tangensOfFrictionAngle"):
-            i.phys.tangensOfFrictionAngle = math.tan(phi)
+            angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
+            i.phys.tangensOfFrictionAngle = math.tan(min(angles))
     O.engines = params.engines(params.settle_damping)
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill", s, ke)))
     # trim: keep the grains wholly below the module's height
