@@ -639,6 +639,18 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
 
+namespace {
+	// How many times the scene's InsertionSortCollider has run (-1: the scene has none). Bounds
+	// and potential interactions change only when it runs.
+	long insertionSortColliderRuns(const Scene* scene)
+	{
+		long runs = -1;
+		for (const auto& e : scene->engines)
+			if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) runs = c->numAction;
+		return runs;
+	}
+}
+
 void FlexTimeStepper::action()
 {
 	if (interval < 1) throw std::invalid_argument("FlexTimeStepper.interval must be >= 1");
@@ -648,9 +660,7 @@ void FlexTimeStepper::action()
 	// lengthen the critical step: they wait for the next update. (Recomputing at every change of
 	// the interaction count cost 11% of a granular impact's step: contacts end at almost every
 	// step.) Without an InsertionSortCollider: at every change of the count, as before.
-	long colliderRuns = -1;
-	for (const auto& e : scene->engines)
-		if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) colliderRuns = c->numAction;
+	const long   colliderRuns = insertionSortColliderRuns(scene);
 	const size_t nIntr   = scene->interactions->size();
 	const bool   changed = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
 	lastInteractionCount = nIntr;
@@ -795,9 +805,7 @@ void FlexNewtonIntegrator::action()
 	scene->forces.sync();
 	const Real dt    = scene->dt;
 	const bool track = scene->trackEnergy;
-	long       runs  = -1;
-	for (const auto& e : scene->engines)
-		if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) runs = c->numAction;
+	const long runs  = insertionSortColliderRuns(scene);
 	if (runs < 0) nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
 	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
 		nodeTableOk    = buildNodeTable();

@@ -28,7 +28,7 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
     bending_factor [-]: bending and twist stiffness relative to a solid wire. 1 (default): beam
     links, so a knot transmits moments; 0: bar links, axial only, the knot a hinge (the model
     class of YADE's WirePM, with the cylinder contacts added); a bar link skips the rotations
-    and is about twice as cheap per step (bench/bench_wire.py).
+    and makes the TECCO panel's step about 1.8x cheaper (bench/bench_wire.py).
     Raises ValueError naming the problem for a bad curve or distortion parameters."""
     try:
         e = [float(x) for x in strain]
