@@ -227,6 +227,17 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
                        + (f"; unbalanced force {ubf:.3g}, limit {unbalanced_tol:.3g})" if unbalanced_tol is not None else ")"))
 
 
+def fill_radii(params):
+    """(lining midplane radius, radius the grains may reach) [m]: the lining inside the wires,
+    and inside the rings (a ring is a polygon through the mesh edge nodes, about pi D / dy of
+    them, whose chords cut inwards by R (1 - cos(dy/D)))."""
+    from .mesh import TECCO_G65_DY
+    R = 0.5 * params.diameter
+    r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
+                R * math.cos(TECCO_G65_DY / params.diameter) - 0.5 * params.ring_bar_diameter - 0.5 * params.lining_thickness - 0.002)
+    return r_lin, r_lin - 0.5 * params.lining_thickness
+
+
 def settle_fill(params, r_in, rnd, progress=None):
     """Stage 1 on an empty O: grains on a loose cubic lattice up to 3.4 H (solid fraction about
     0.2: enough for a dense fill above H) in a rigid frictionless container of radius r_in on a
@@ -290,14 +301,8 @@ def build_filled(params, progress=None):
     params.validate()
     rnd = random.Random(params.seed)
     O.reset()
-    R = 0.5 * params.diameter
     H = params.height
-    # lining midplane inside the wires, and inside the rings: a ring is a polygon through the
-    # mesh edge nodes (about pi D / dy of them), whose chords cut inwards by R (1 - cos(dy/D))
-    from .mesh import TECCO_G65_DY
-    r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
-                R * math.cos(TECCO_G65_DY / params.diameter) - 0.5 * params.ring_bar_diameter - 0.5 * params.lining_thickness - 0.002)
-    r_in = r_lin - 0.5 * params.lining_thickness  # what the grains may reach
+    r_lin, r_in = fill_radii(params)
     wall, grains, ke_tol = settle_fill(params, r_in, rnd, progress)
     # --- stage 2: the structure around the fill
     from .wire import tecco_wire
