@@ -24,7 +24,7 @@
 # scene runs it at none (measured 2026-11-23), which is not the state of a run.
 # The fill is at rest: this is the cost of visiting the contacts and the collider's potential
 # pairs, the part that both models pay through YADE's InteractionLoop.
-# Writes bench/results/grains_compare[_small].csv and prints a table.
+# Writes bench/results/grains_compare[_small][_norolling].csv (and _machine.txt) and prints a table.
 import argparse
 import csv
 import math
@@ -69,13 +69,14 @@ def parse():
 
 
 def grains_of(p, cache_dir):
-    """(centre, radius) of the settled grains of the filled module, and the fill preset."""
+    """(centre, radius) of the settled grains of the filled module, and its cache file."""
     ids, f, _ = filled_module(p, cache_dir=cache_dir)
     return [(Vector3(O.bodies[g].state.pos), O.bodies[g].shape.radius) for g in ids["grains"] if O.bodies[g] is not None], f
 
 
-def scene(p, grains, kind):
-    """The current scene of O with the grains, slab and container, and the engines of `kind`."""
+def scene(p, grains, kind, dt=None):
+    """The current scene of O with the grains, slab and container, and the engines of `kind`
+    (the built-in's at the fixed step dt: yade-flex's on the same fill)."""
     O.resetCurrentScene()
     pre = p.preset()
     fill = FrictMat(young=pre["young"], poisson=0.3, density=pre["density"], frictionAngle=math.radians(pre["friction_deg"]), label="fill")
@@ -88,16 +89,14 @@ def scene(p, grains, kind):
     for c, r in grains:
         O.bodies.append(utils.sphere(c, r, material=fill))
     if kind == "builtin":
-        flex = scene.dt_flex  # yade-flex's step on the same fill, held fixed
         O.engines = [ForceResetter(),
                      InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb(), Bo1_Wall_Aabb()], verletDist=0.5 * min(r for _, r in grains), label="collider"),
                      InteractionLoop([Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()], [Ip2_FrictMat_FrictMat_FrictPhys()],
                                      [Law2_ScGeom_FrictPhys_CundallStrack()], label="interactionLoop"),
                      NewtonIntegrator(gravity=(0, 0, -G), damping=0.0, label="newton")]
-        O.dt = flex
+        O.dt = dt
     else:
         O.engines = p.engines(0.0) if kind == "flex" else yf.engines(damping=0.0, timestep_safety=p.timestep_safety)
-    return O
 
 
 def main():
@@ -111,15 +110,15 @@ def main():
     kinds = ["flex_norolling" if a.no_rolling else "flex", "builtin"]
     labels = {"flex": "yade-flex", "flex_norolling": "yade-flex, no rolling", "builtin": "built-in"}
     sid = {}
-    scene.dt_flex = None
+    dt_flex = None
     for kind in kinds:
         sid[kind] = O.thisScene if not sid else O.addScene()
         O.switchToScene(sid[kind])
-        scene(p, grains, kind)
+        scene(p, grains, kind, dt_flex)
         for _ in range(a.warmup):
             O.step()
         if kind != "builtin":
-            scene.dt_flex = O.dt
+            dt_flex = O.dt
         ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and b.dynamic)
         print(f"  {labels[kind]}: {O.interactions.countReal()} real / {len(O.interactions.all(False))} interactions, dt {O.dt:.3g} s, "
               f"kinetic energy {ke:.3g} J after {a.warmup} steps", flush=True)
@@ -158,7 +157,8 @@ def main():
         rows.append(dict(scene=labels[k], grains=len(grains), us_per_step=round(med, 2), builtin_over_this=round(ref / med, 3), dt=dt,
                          collider_runs_per_step=round(runs[k] / (a.reps * a.window), 4), windows=" ".join(f"{w:.1f}" for w in ws), interactions_real=bd[k]["interactions_real"],
                          interactions_all=bd[k]["interactions_all"], engines_us=";".join(f"{e}={v}" for e, v in bd[k]["engines"].items())))
-    path = os.path.join(a.out, f"grains_compare{tag}{'_norolling' if a.no_rolling else ''}.csv")
+    tag += "_norolling" if a.no_rolling else ""
+    path = os.path.join(a.out, f"grains_compare{tag}.csv")
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()

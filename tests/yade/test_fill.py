@@ -21,7 +21,7 @@ def _core_fraction(grains, r_in, H, dmax):
     return v / (math.pi * rc ** 2 * (z1 - z0))
 
 
-def test_fill_is_dense_and_at_rest(scene):
+def test_fill_is_dense(scene):
     p = ModuleParams(diameter=0.6, height=0.35)  # gravel, 32-63 mm: about 9 grains across
     r_in = 0.27
     wall, grains, _ = settle_fill(p, r_in, random.Random(1))
