@@ -290,6 +290,28 @@ def test_wire_on_membrane_one_contact(scene):
         assert abs(i.geom.normal[2]) > 1 - 1e-12
 
 
+def test_wire_node_pushed_into_membrane_one_contact(scene):
+    """A mesh node where three wires meet, pushed 1 um through a flat membrane's midplane (as a
+    fill can press a mesh node into the lining): all three wires pierce the facet within 1e-4
+    of their length from the node, at points a few um apart on their axes. One contact, not
+    three: the probe (the facet point) lies on each wire's axis, where a contact normal is
+    undefined (found 2026-11-23 in the three-module scene, a lining node then thrown at 63 m/s)."""
+    pts, tris = _roof(0)
+    _fixed_mesh(pts, tris)
+    steel = yf.steel(friction_deg=0.0)
+    rc = 0.0015
+    c = yf.node((0.3, 0.5, -1e-6), rc, steel, fixed=True)
+    for az in (0.0, 2.1, 4.2):
+        end = yf.node((0.3 + 0.1 * math.cos(az), 0.5 + 0.1 * math.sin(az), 0.02), rc, steel, fixed=True)
+        yf.cylinder(c, end, rc, steel)
+    O.engines = engines(gravity=(0, 0, 0))
+    O.step()
+    act = [i for i in O.interactions if i.isReal and i.geom.active]
+    assert len(act) == 1, [(i.id1, i.id2, i.geom.u1, i.geom.penetrationDepth) for i in act]
+    # its overlap: the node's depth below the facet's upper surface (about the full reach)
+    assert abs(act[0].geom.penetrationDepth - (rc + RF)) < 1e-5
+
+
 @pytest.mark.parametrize("bad, msg", [
     (lambda m, n: yf.facet(n[0], n[1], n[2], m, 0.002), "collinear"),
     (lambda m, n: yf.facet(n[0], n[0], n[3], m, 0.002), "same node"),
