@@ -165,6 +165,8 @@ class ModuleParams:
             d.pop(k)
         d["_preset"] = self.preset()
         d["_version"] = 11  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too
+        if self.with_rope():
+            d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
