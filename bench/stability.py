@@ -2,13 +2,14 @@
 # (GPL-2.0-or-later).
 #
 #     yade-double -n -j1 -x bench/stability.py [--quick] [--groups dt,speed,material,rupture] [--no-default-module]
+#     yade-double -n -j1 -x bench/stability.py --groups dtmodule   # the default module's margin (25 min)
 #
 # Every case is a scene of yadeflex (the builders the tests and benchmarks use) run in this one
 # process, one after the other, with these common rules:
 #   - time step: FlexTimeStepper keeps estimating the critical step (safety 1, its usual interval
 #     and collider triggers); a PyRunner right after it sets O.dt = factor x flexDt.dtCritical at
 #     every step, so that factors above 1 can be run. yf.engines() uses 0.5 (timestep_safety), the
-#     damping module ModuleParams.timestep_safety (0.5).
+#     damping module ModuleParams.timestep_safety (0.5); --groups dtmodule searches its margin.
 #   - guard: a FlexGuard with its default settings is the first engine. When it stops the run, its
 #     step and message are recorded, it is removed and the run goes on without it, so that every
 #     row says both what the guard did and what the run really did (a guard stop followed by a
@@ -460,7 +461,7 @@ def plot(rows, path):
 def main():
     ap = argparse.ArgumentParser(prog="stability.py")
     ap.add_argument("--quick", action="store_true", help="a few cases, no bisection (a few minutes)")
-    ap.add_argument("--groups", default="dt,speed,material,rupture")
+    ap.add_argument("--groups", default="dt,speed,material,rupture", help="comma-separated; dtmodule (alone): the default module's time-step margin")
     ap.add_argument("--no-default-module", action="store_true", help="skip the default (full-size) module speeds")
     ap.add_argument("--plot-only", action="store_true", help="redraw results/stability.png from results/stability.csv")
     ap.add_argument("--markdown", action="store_true", help="print the tables of STABILITY.md from results/stability*.csv")
@@ -499,6 +500,13 @@ def main():
                 margins[(scene, params)] = margin(build, "dt", scene, params, rows)
                 if scene == "cantilever":  # a small step: the start of a step load, seen by the guard
                     rows.append(run_case(build, 0.1, "dt", scene, params))
+    if "dtmodule" in groups:  # not in the default groups: the default module (6000 bodies, its default fill), 25 min
+        if groups != ["dtmodule"]:
+            raise SystemExit("--groups dtmodule runs alone (it writes results/stability_dtmodule*)")
+        OUT[0] = "_dtmodule"
+        print("-- module default, margin", flush=True)
+        margins[("module default", f"{ModuleParams().impact_speed():.2f} m/s")] = margin(functools.partial(module, False, None, 0.1), "dt", "module default",
+                                                                                          f"{ModuleParams().impact_speed():.2f} m/s", rows)
     if rows:  # what is measured so far, in case a later group is stopped
         write(rows, margins, line)
     if "material" in groups:
@@ -530,15 +538,16 @@ def main():
     if rows:  # what is measured so far, in case a later group is stopped
         write(rows, margins, line)
     if "speed" in groups:
-        print("== impact speeds (damping module, time-step factor 0.5 = ModuleParams.timestep_safety)", flush=True)
+        fm = ModuleParams().timestep_safety
+        print(f"== impact speeds (damping module, time-step factor {fm:g} = ModuleParams.timestep_safety)", flush=True)
         for v in ((5.0, 30.0) if q else (5.0, 10.0, 20.0, 30.0)):
-            rows.append(run_case(functools.partial(module, True, v, 0.03 if q else 0.08), 0.5, "speed", "module small", f"{v:g} m/s"))
+            rows.append(run_case(functools.partial(module, True, v, 0.03 if q else 0.08), fm, "speed", "module small", f"{v:g} m/s"))
         if not q:  # the residual of the fastest impact with smaller steps
-            for f in (0.25, 0.125):
+            for f in (0.5 * fm, 0.25 * fm):
                 rows.append(run_case(functools.partial(module, True, 30.0, 0.08), f, "speed", "module small", "30 m/s"))
         if not (q or a.no_default_module):
             for v in (None, 15.0, 30.0):
-                rows.append(run_case(functools.partial(module, False, v, 0.1), 0.5, "speed", "module default",
+                rows.append(run_case(functools.partial(module, False, v, 0.1), fm, "speed", "module default",
                                      f"{v:g} m/s" if v else f"{ModuleParams().impact_speed():.2f} m/s"))
     write(rows, margins, line)
     if margins:
