@@ -164,7 +164,7 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
             d.pop(k)
         d["_preset"] = self.preset()
-        d["_version"] = 11  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too
+        d["_version"] = 12  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets
         if self.with_rope():
             d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
@@ -229,15 +229,24 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
                        + (f"; unbalanced force {ubf:.3g}, limit {unbalanced_tol:.3g})" if unbalanced_tol is not None else ")"))
 
 
+def lining_cells_around(r_lin):
+    """Facets around the lining (cells of about 8 cm)."""
+    return max(12, int(round(2 * math.pi * r_lin / 0.08)))
+
+
 def fill_radii(params):
     """(lining midplane radius, radius the grains may reach) [m]: the lining inside the wires,
     and inside the rings (a ring is a polygon through the mesh edge nodes, about pi D / dy of
-    them, whose chords cut inwards by R (1 - cos(dy/D)))."""
+    them, whose chords cut inwards by R (1 - cos(dy/D))). The lining is a polygon too, its nodes
+    on r_lin: the grains stay inside the middles of its flat facets, r_lin cos(pi / n), less half
+    its thickness (settled against r_lin itself they started the structure stage overlapping
+    the lining by up to its sagitta, 1.7 mm on the default module: 8-18 kN on 1 g lining nodes
+    at the first step, measured 2026-11-23)."""
     from .mesh import TECCO_G65_DY
     R = 0.5 * params.diameter
     r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
                 R * math.cos(TECCO_G65_DY / params.diameter) - 0.5 * params.ring_bar_diameter - 0.5 * params.lining_thickness - 0.002)
-    return r_lin, r_lin - 0.5 * params.lining_thickness
+    return r_lin, r_lin * math.cos(math.pi / lining_cells_around(r_lin)) - 0.5 * params.lining_thickness
 
 
 def settle_fill(params, r_in, rnd, progress=None):
@@ -323,7 +332,7 @@ def build_filled(params, progress=None):
                      top=edge_ring(mesh["edges"]["top"], 0.5 * params.ring_bar_diameter, ring_mat))
         lin = None
         if params.lining:
-            n_around = max(12, int(round(2 * math.pi * r_lin / 0.08)))
+            n_around = lining_cells_around(r_lin)
             n_height = max(2, int(round(H / 0.08)))
             lin = M.lining(r_lin, H, n_around, n_height, params.lining_thickness, gtx, center=(cx, cy, 0.5 * params.lining_thickness),
                            fix_bottom=True)
