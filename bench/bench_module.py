@@ -7,8 +7,9 @@
 #   1. ours: the filled yade-flex module (yadeflex.module.filled_module: loaded from the cache, or
 #      built), the boulder of add_boulder, yf.engines(damping 0): the main job's scene
 #      (scripts/damping_module.py) without its rolling resistance (the built-in's CundallStrack
-#      has none: the same contact physics on both sides), recorded the same way (force = m (a_z + g) from the boulder's
-#      velocity every 0.2 ms, penetration below the fill top, end = rebound + 20%);
+#      has none: the same contact physics on both sides), recorded the same way (force =
+#      m (a_z + g) from the boulder's velocity every 0.2 ms, penetration below the fill top,
+#      end = rebound + 20%);
 #   2. built-in: builtin_module.py rebuilds that module (same grains, nodes, legs, rings, lining,
 #      masses, supports) with WireMat/WirePM, PFacet/GridNode/GridConnection/CohFrict, FrictMat
 #      spheres and a Wall; re-settles it under gravity with local damping 0.7, then drops the same

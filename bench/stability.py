@@ -505,8 +505,8 @@ def main():
             raise SystemExit("--groups dtmodule runs alone (it writes results/stability_dtmodule*)")
         OUT[0] = "_dtmodule"
         print("-- module default, margin", flush=True)
-        margins[("module default", f"{ModuleParams().impact_speed():.2f} m/s")] = margin(functools.partial(module, False, None, 0.1), "dt", "module default",
-                                                                                          f"{ModuleParams().impact_speed():.2f} m/s", rows)
+        params = f"{ModuleParams().impact_speed():.2f} m/s"
+        margins[("module default", params)] = margin(functools.partial(module, False, None, 0.1), "dt", "module default", params, rows)
     if rows:  # what is measured so far, in case a later group is stopped
         write(rows, margins, line)
     if "material" in groups:
