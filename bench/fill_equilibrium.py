@@ -81,7 +81,7 @@ for c in a.damping:
     O.load(saved)
     O.engines = p.engines(c)
     if a.no_rolling:
-        for f in next(e for e in O.engines if type(e).__name__ == "InteractionLoop").lawDispatcher.functors:
+        for f in next(e for e in O.engines if type(e).__name__ in ("InteractionLoop", "FlexInteractionLoop")).lawDispatcher.functors:
             if hasattr(f, "rollingFriction"):
                 f.rollingFriction, f.rollingStiffness = 0.0, 0.0
     t0 = (O.iter, O.time)

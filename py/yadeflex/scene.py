@@ -2,7 +2,7 @@
 import math
 
 from yade import O
-from yade.wrapper import (ForceResetter, InsertionSortCollider, InteractionLoop, NewtonIntegrator,
+from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionLoop, NewtonIntegrator,
                           Bo1_Sphere_Aabb, Bo1_Facet_Aabb, Bo1_Box_Aabb, Bo1_Wall_Aabb, Bo1_FlexCylinder_Aabb, Bo1_FlexFacet_Aabb,
                           Ig2_Sphere_Sphere_ScGeom, Ig2_Facet_Sphere_ScGeom, Ig2_Box_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom,
                           Ig2_Sphere_FlexCylinder_FlexContactGeom, Ig2_FlexCylinder_FlexCylinder_FlexContactGeom,
@@ -39,6 +39,9 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     0.24% at 0.3, measured), hence 0.5. flex_sphere_contacts: sphere-sphere contacts use
     yade-flex's contact geometry and law (friction dissipation consistent with the leap-frog
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
+    The loop over interactions is FlexInteractionLoop: YADE's InteractionLoop with the same
+    functor calls in the same order (same results) that asks for each interaction's data a few
+    iterations ahead (pkg/yade/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop).
     guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
     naming the bodies at the first non-finite value, step longer than half a contact radius or
     (with O.trackEnergy) energy created without external work; it costs one pass over the
@@ -64,7 +67,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
         ForceResetter(),
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_FlexFacet_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
                               verletDist=verlet, label="collider"),
-        InteractionLoop(
+        FlexInteractionLoop(
             [Ig2_Sphere_Sphere_FlexContactGeom() if flex_sphere_contacts else Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
              Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],

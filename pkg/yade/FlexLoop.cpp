@@ -1,0 +1,213 @@
+// yade-flex adapter: FlexInteractionLoop (GPL-2.0-or-later). Why and what: FlexLoop.hpp.
+#include "FlexLoop.hpp"
+#include "Flex.hpp"
+#include "FlexCommon.hpp"
+#include "FlexFacet.hpp"
+
+#include <lib/factory/ClassFactory.hpp>
+
+#include <algorithm>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
+
+namespace yade {
+
+YADE_PLUGIN((FlexInteractionLoop));
+
+namespace {
+	// Prefetch distances [iterations]. Work per pair ~20 ns (potential) to ~150 ns (real
+	// contact), a miss to DRAM ~100 ns: the interaction objects are asked for 12 ahead (pass 1,
+	// which only reads them), what they point to 6 live interactions ahead, what that points to
+	// 3 ahead (pass 2).
+	constexpr long kMaxBlock = 4096; // largest blockSize
+
+	inline void fetch(const void* p, size_t bytes) { flexa::prefetch(p, bytes); }
+
+	struct Bodies {
+		const shared_ptr<Body>* p;
+		long                    n;
+		Body*                   get(Body::id_t id) const { return (id >= 0 && id < n) ? p[id].get() : nullptr; }
+	};
+
+	// The fields the loop and the contact functors read: the interaction (ids, functor cache,
+	// geom, phys), a body's first lines (id, flags, shape, state, material, clumpId), a state's
+	// position, velocities and orientation, a contact geometry and physics.
+	constexpr size_t kBodyBytes = std::min<size_t>(sizeof(Body), 192), kStateBytes = std::min<size_t>(sizeof(State), 320);
+
+	inline void fetchTargets(const Interaction* I, const Bodies& b)
+	{
+		if (Body* b1 = b.get(I->getId1())) fetch(b1, kBodyBytes);
+		if (Body* b2 = b.get(I->getId2())) fetch(b2, kBodyBytes);
+		if (const IGeom* g = I->geom.get()) fetch(g, 256);
+		if (const IPhys* p = I->phys.get()) fetch(p, 128);
+	}
+
+	// The pairs the time stepper marked as unable to touch before the collider runs again
+	// (flexa::UnreachableMarks), for the functors that read these marks: such a pair, while it
+	// has no geometry, is skipped here before its bodies are touched, which is exactly what
+	// happens inside the functor (it returns false first thing) and after it in the loop
+	// (nothing for a pair that was not real).
+	struct Marked {
+		bool                     valid = false;
+		const IGeomFunctor*      fun[8] {};
+		int                      nFun = 0;
+		bool                     readsMarks(const IGeomFunctor* f) const
+		{
+			for (int k = 0; k < nFun; ++k)
+				if (fun[k] == f) return true;
+			return false;
+		}
+		bool operator()(const Scene* scene, const Interaction& I) const
+		{
+			return valid && !I.geom && readsMarks(I.functorCache.geom.get()) && flexa::markedUnreachable(scene, I);
+		}
+	};
+
+	inline void fetchStates(const Interaction* I, const Bodies& b)
+	{
+		for (Body::id_t id : { I->getId1(), I->getId2() })
+			if (const Body* body = b.get(id)) {
+				if (const State* s = body->state.get()) fetch(s, kStateBytes);
+				if (const Shape* sh = body->shape.get()) fetch(sh, 64);
+			}
+	}
+}
+
+void FlexInteractionLoop::action()
+{
+	InteractionContainer& ic = *scene->interactions;
+	// the collider asks for unseen potential interactions to go on this step (some colliders only)
+	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
+	if (!prefetch || removeUnseen || !callbacks.empty() || loopOnSortedInteractions || blockSize < 1 || blockSize > kMaxBlock || !(ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)) {
+		usedFastPath = false;
+		InteractionLoop::action();
+		return;
+	}
+	usedFastPath         = true;
+	lawDispatcher->scene  = scene;
+	physDispatcher->scene = scene;
+	geomDispatcher->scene = scene;
+	geomDispatcher->updateScenePtr();
+	physDispatcher->updateScenePtr();
+	lawDispatcher->updateScenePtr();
+
+	const long n = (long)ic.size();
+	if (n == 0) return;
+	const shared_ptr<Interaction>* intrs = &ic[0];
+	const Bodies                   bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() };
+	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
+	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
+	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
+	Marked                         marked;
+	marked.valid = ic.iterColliderLastRun == flexa::kMarksValid;
+	for (const auto& f : geomDispatcher->functors) {
+		const IGeomFunctor* g = f.get();
+		if (marked.nFun < 8
+		    && (dynamic_cast<const Ig2_Sphere_Sphere_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexCylinder_FlexContactGeom*>(g)
+		        || dynamic_cast<const Ig2_FlexCylinder_FlexCylinder_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexFacet_FlexContactGeom*>(g)
+		        || dynamic_cast<const Ig2_FlexCylinder_FlexFacet_FlexContactGeom*>(g)))
+			marked.fun[marked.nFun++] = g;
+	}
+
+	std::exception_ptr error;
+	std::mutex         errorMutex;
+	auto               fail = [&](std::exception_ptr e) {
+                std::lock_guard<std::mutex> lock(errorMutex);
+                if (!error) error = e;
+	};
+
+#ifdef YADE_OPENMP
+	const int threads = ompThreads > 0 ? std::min(ompThreads, omp_get_max_threads()) : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+	for (long c = 0; c < nBlocks; ++c) {
+		const long lo = c * block, hi = std::min(n, lo + block);
+		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
+		// are left (not marked unreachable), in their order
+		long live[kMaxBlock];
+		int  nLive = 0;
+		for (long k = lo; k < std::min(hi, lo + kFar); ++k)
+			fetch(intrs[k].get(), sizeof(Interaction));
+		for (long i = lo; i < hi; ++i) {
+			if (i + kFar < hi) fetch(intrs[i + kFar].get(), sizeof(Interaction));
+			if (!marked(scene, *intrs[i])) live[nLive++] = i;
+		}
+		// pass 2: the live ones, with their bodies, geom and phys asked for kMid live
+		// interactions ahead and the bodies' states and shapes kNear ahead
+		for (int j = 0; j < std::min(nLive, (int)kMid); ++j)
+			fetchTargets(intrs[live[j]].get(), bodies);
+		for (int j = 0; j < std::min(nLive, (int)kNear); ++j)
+			fetchStates(intrs[live[j]].get(), bodies);
+		for (int j = 0; j < nLive; ++j) {
+			if (j + kMid < nLive) fetchTargets(intrs[live[j + kMid]].get(), bodies);
+			if (j + kNear < nLive) fetchStates(intrs[live[j + kNear]].get(), bodies);
+			try {
+				const shared_ptr<Interaction>& I   = intrs[live[j]];
+				Body*                          b1_ = bodies.get(I->getId1());
+				Body*                          b2_ = bodies.get(I->getId2());
+				if (!b1_ || !b2_) {
+					ic.requestErase(I); // a body vanished
+					continue;
+				}
+#ifdef YADE_MPI
+				if (scene->subdomain != b1_->subdomain && scene->subdomain != b2_->subdomain) {
+					ic.requestErase(I->getId1(), I->getId2());
+					continue;
+				}
+#endif
+				if (b1_->isClump() || b2_->isClump()) continue;
+				if (!I->functorCache.geomExists) continue; // no Ig2 functor for this pair of shapes
+				if (!b1_->shape || !b2_->shape) continue;
+				bool swap = false;
+				if (!I->functorCache.geom) {
+					I->functorCache.geom = geomDispatcher->getFunctor2D(b1_->shape, b2_->shape, swap);
+					if (!I->functorCache.geom) {
+						I->functorCache.geomExists = false;
+						continue;
+					}
+				}
+				// the functor takes the bodies in its own order: the interaction is swapped once
+				// (its geom and phys do not exist yet), as InteractionLoop does
+				if (swap) I->swapOrder();
+				Body* const    b1      = swap ? b2_ : b1_;
+				Body* const    b2      = swap ? b1_ : b2_;
+				const bool     wasReal = I->isReal();
+				const Vector3r shift2  = scene->isPeriodic ? Vector3r(cellH * I->cellDist.cast<Real>()) : Vector3r(Vector3r::Zero());
+				if (!I->functorCache.geom->go(b1->shape, b2->shape, *b1->state, *b2->state, shift2, /*force*/ false, I)) {
+					if (wasReal) ic.requestErase(I); // the geometry ended: the interaction is reset
+					continue;
+				}
+				if (!I->functorCache.phys) {
+					bool swapPhys        = false;
+					I->functorCache.phys = physDispatcher->getFunctor2D(b1->material, b2->material, swapPhys);
+					if (!I->functorCache.phys)
+						throw std::runtime_error(
+						        "FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and "
+						        + b2->material->getClassName() + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+				}
+				I->functorCache.phys->go(b1->material, b2->material, I);
+				if (!wasReal) I->iterMadeReal = scene->iter;
+				if (!I->functorCache.constLaw) {
+					bool swapLaw             = false;
+					I->functorCache.constLaw = lawDispatcher->getFunctor2D(I->geom, I->phys, swapLaw);
+					if (!I->functorCache.constLaw)
+						throw std::runtime_error(
+						        "FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and " + I->phys->getClassName()
+						        + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+				}
+				if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
+			} catch (...) {
+				fail(std::current_exception());
+			}
+		}
+	}
+	if (error) std::rethrow_exception(error);
+}
+
+} // namespace yade

@@ -1,0 +1,109 @@
+"""FlexInteractionLoop (pkg/yade/FlexLoop.hpp): YADE's InteractionLoop with prefetching. It must
+give the same results as InteractionLoop, bit for bit at one thread (the same functor calls in
+the same order), on a scene with every kind of contact: the reduced damping module hit by its
+clumped boulder (grains, wires, rings, lining facets, the slab, pairs the time stepper marks as
+unreachable, collider runs, contacts starting and ending). And a pair nobody can handle raises
+a Python exception instead of terminating YADE."""
+import hashlib
+import struct
+
+import pytest
+from yade import O
+from yade.wrapper import ElastMat, FlexInteractionLoop, InteractionLoop
+
+import yadeflex as yf
+import yadeflex.scenes as S
+from yadeflex.module import ModuleParams, filled_module, add_boulder
+
+
+def _state_hash():
+    h = hashlib.sha256()
+    for b in O.bodies:
+        if b is None:
+            continue
+        s = b.state
+        h.update(struct.pack("<i13d", b.id, *s.pos, *s.vel, *s.angVel, *s.ori))
+    return h.hexdigest()
+
+
+def _loop():
+    return [e for e in O.engines if e.label == "interactionLoop"][0]
+
+
+@pytest.fixture(scope="module")
+def impact_state():
+    """The reduced module a few hundred steps into its impact, saved in memory."""
+    O.reset()
+    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+    ids, _, _ = filled_module(p)
+    bid = add_boulder(p, ids)
+    O.engines = p.engines(0.0)
+    O.trackEnergy = True
+    while O.forces.f(bid).norm() == 0:
+        O.run(50, True)
+    O.run(200, True)  # contacts under load
+    O.saveTmp("loop")
+    yield bid
+    O.reset()
+
+
+def _run_from_saved(steps=400, **attrs):
+    O.loadTmp("loop")
+    il = _loop()
+    assert isinstance(il, FlexInteractionLoop)
+    for k, v in attrs.items():
+        setattr(il, k, v)
+    fast = []
+    marked = 0
+    dt = [e for e in O.engines if e.label == "flexDt"][0]
+    for _ in range(steps):
+        O.step()
+        fast.append(il.usedFastPath)
+        marked = max(marked, len(dt.unreachablePairs()))
+    return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked
+
+
+def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
+    ref = _run_from_saved(prefetch=False)
+    assert not any(ref[3])  # InteractionLoop.action itself
+    assert ref[2] > 100 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path)
+    for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1))):
+        got = _run_from_saved(**attrs)
+        assert all(got[3]), attrs  # every step on the prefetching loop
+        assert got[:3] == ref[:3], attrs
+
+
+def test_sorted_loop_falls_back_to_interaction_loop(impact_state):
+    got = _run_from_saved(steps=50, loopOnSortedInteractions=True)
+    assert not any(got[3])
+
+
+@pytest.mark.parametrize("attrs", [dict(blockSize=0), dict(blockSize=5000), dict(ahead=(3, 6, 1)), dict(ahead=(6, 3, 0))])
+def test_bad_settings_fall_back_to_interaction_loop(scene, attrs):
+    a = S.sphere((0, 0, 0), 0.05)
+    b = S.sphere((0, 0, 0.099), 0.05)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    for k, v in attrs.items():
+        setattr(_loop(), k, v)
+    O.step()
+    assert not _loop().usedFastPath
+    assert O.interactions[a, b].isReal
+
+
+def test_a_pair_without_ip2_functor_raises(scene):
+    """ElastMat has no Ip2 functor in yf.engines(): InteractionLoop would throw inside its
+    OpenMP region (std::terminate: YADE aborts); the prefetching loop raises RuntimeError."""
+    a = S.sphere((0, 0, 0), 0.05)
+    b = S.sphere((0, 0, 0.099), 0.05)
+    m = ElastMat(young=1e8, density=2500)
+    O.materials.append(m)
+    for i in (a, b):
+        O.bodies[i].material = m
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    with pytest.raises(RuntimeError, match="no Ip2 functor for materials ElastMat and ElastMat"):
+        O.step()
+
+
+def test_it_is_an_interaction_loop():
+    il = FlexInteractionLoop()
+    assert isinstance(il, InteractionLoop) and il.prefetch and il.blockSize == 256
