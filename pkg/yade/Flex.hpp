@@ -274,6 +274,7 @@ public:
 		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]"))
 		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact, as before 2026-11-22."))
 		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; measured 2026-11-23 on the damping module: see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
+		((bool, prefetch, true, , "Ask for the interactions' data a few iterations ahead in the loop over interactions (same results; False: for comparisons)"))
 		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]")),
 		,
 		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")
@@ -307,6 +308,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
 		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that, on the fast path, local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator, and this class's fallback to it, also books |v||F| c dt on blocked, driven DOFs, where no damping acts), clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
+		((bool, prefetch, true, , "On the fast path, ask for the bodies' data a few bodies ahead (same results; False: for comparisons)"))
 		((int, parallelMin, 4000, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))
 	);
 	// clang-format on

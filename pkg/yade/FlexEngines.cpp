@@ -488,7 +488,19 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 		const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
 		return flex::cannotTouch(gap, reach1, reach2, size);
 	};
-	for (const auto& I : *scene->interactions) {
+	InteractionContainer&          ic    = *scene->interactions;
+	const long                     nI    = (long)ic.size();
+	const shared_ptr<Interaction>* intrs = nI ? &ic[0] : nullptr;
+	for (long li = 0; li < nI; ++li) {
+		if (prefetch) { // the interaction 12 ahead, what the one 6 ahead points to (FlexLoop.hpp)
+			if (li + 12 < nI) flexa::prefetch(intrs[li + 12].get(), sizeof(Interaction));
+			if (li + 6 < nI) {
+				const Interaction* J = intrs[li + 6].get();
+				flexa::prefetch(J->geom.get(), 256);
+				flexa::prefetch(J->phys.get(), 128);
+			}
+		}
+		const shared_ptr<Interaction>& I = intrs[li];
 		if (I->isReal()) {
 			const IPhys*         ip = I->phys.get();
 			const FrictPhys*     fp = flexa::fastCast<FrictPhys>(ip);
@@ -821,15 +833,25 @@ void FlexNewtonIntegrator::action()
 	const int nThr = 1;
 #endif
 	thrMax.assign(nThr, 0);
-	auto&      bodies = *scene->bodies;
+	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const long n      = (long)movers.size();
+	const Body::id_t* mv = movers.data();
+	const bool        pf = prefetch;
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp)
 #endif
 	for (long k = 0; k < n; ++k) {
-		const Body::id_t        id = movers[k];
+		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
+			if (k + 8 < n) flexa::prefetch(bodies[mv[k + 8]].get(), 192);
+			if (k + 4 < n)
+				if (const Body* bb = bodies[mv[k + 4]].get()) {
+					flexa::prefetch(bb->state.get(), std::min<size_t>(sizeof(State), 320));
+					flexa::prefetch(bb->bound.get(), 128);
+				}
+		}
+		const Body::id_t        id = mv[k];
 		const shared_ptr<Body>& b  = bodies[id];
 		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
 		State* st = b->state.get();

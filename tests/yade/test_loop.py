@@ -47,12 +47,17 @@ def impact_state():
     O.reset()
 
 
-def _run_from_saved(steps=400, **attrs):
+def _run_from_saved(steps=400, engines=None, **attrs):
+    """attrs: of the interaction loop; engines: {label: {attr: value}} of other engines."""
     O.loadTmp("loop")
     il = _loop()
     assert isinstance(il, FlexInteractionLoop)
     for k, v in attrs.items():
         setattr(il, k, v)
+    for label, kv in (engines or {}).items():
+        e = [e for e in O.engines if e.label == label][0]
+        for k, v in kv.items():
+            setattr(e, k, v)
     fast = []
     marked = 0
     dt = [e for e in O.engines if e.label == "flexDt"][0]
@@ -63,14 +68,21 @@ def _run_from_saved(steps=400, **attrs):
     return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked
 
 
+NO_PREFETCH = {"newton": {"prefetch": False}, "flexDt": {"prefetch": False}}
+
+
 def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
-    ref = _run_from_saved(prefetch=False)
+    """Also the prefetching in FlexNewtonIntegrator and FlexTimeStepper (on in every run but
+    the reference)."""
+    ref = _run_from_saved(prefetch=False, engines=NO_PREFETCH)
     assert not any(ref[3])  # InteractionLoop.action itself
     assert ref[2] > 100 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path)
     for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1))):
         got = _run_from_saved(**attrs)
         assert all(got[3]), attrs  # every step on the prefetching loop
         assert got[:3] == ref[:3], attrs
+    assert _run_from_saved(prefetch=False)[:3] == ref[:3]  # the integrator's and stepper's alone
+    assert [e for e in O.engines if e.label == "newton"][0].usedFastPath  # (where the integrator prefetches)
 
 
 def test_sorted_loop_falls_back_to_interaction_loop(impact_state):
