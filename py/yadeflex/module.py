@@ -80,7 +80,7 @@ class ModuleParams:
     impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
     damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
-    timestep_safety: float = 0.5     # [-]
+    timestep_safety: float = 1.0     # [-] time step = this x FlexTimeStepper's critical-step estimate (margin of the default module: 3x, bench/STABILITY.md)
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
     seed: int = 1
     n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
