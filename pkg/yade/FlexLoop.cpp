@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 
 #ifdef YADE_OPENMP
 #include <omp.h>
@@ -104,16 +105,27 @@ void FlexInteractionLoop::action()
 	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
 	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
 	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
-	Marked                         marked;
-	marked.valid = ic.iterColliderLastRun == flexa::kMarksValid;
-	for (const auto& f : geomDispatcher->functors) {
-		const IGeomFunctor* g = f.get();
-		if (marked.nFun < 8
-		    && (dynamic_cast<const Ig2_Sphere_Sphere_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexCylinder_FlexContactGeom*>(g)
-		        || dynamic_cast<const Ig2_FlexCylinder_FlexCylinder_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexFacet_FlexContactGeom*>(g)
-		        || dynamic_cast<const Ig2_FlexCylinder_FlexFacet_FlexContactGeom*>(g)))
-			marked.fun[marked.nFun++] = g;
+	bool same = seenFunctors.size() == geomDispatcher->functors.size();
+	for (size_t k = 0; same && k < seenFunctors.size(); ++k) {
+		const IGeomFunctor* g = geomDispatcher->functors[k].get();
+		same = seenFunctors[k].first == g && g && seenFunctors[k].second == &typeid(*g);
 	}
+	if (!same) {
+		seenFunctors.clear();
+		markReaders.clear();
+		for (const auto& f : geomDispatcher->functors) {
+			const IGeomFunctor* g = f.get();
+			seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
+			if (dynamic_cast<const Ig2_Sphere_Sphere_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexCylinder_FlexContactGeom*>(g)
+			    || dynamic_cast<const Ig2_FlexCylinder_FlexCylinder_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexFacet_FlexContactGeom*>(g)
+			    || dynamic_cast<const Ig2_FlexCylinder_FlexFacet_FlexContactGeom*>(g))
+				markReaders.push_back(g);
+		}
+	}
+	Marked marked;
+	marked.valid = ic.iterColliderLastRun == flexa::kMarksValid;
+	for (const IGeomFunctor* g : markReaders)
+		if (marked.nFun < 8) marked.fun[marked.nFun++] = g;
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
