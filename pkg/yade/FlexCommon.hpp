@@ -75,14 +75,15 @@ namespace flexa {
 		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
 	}
 
-	/// Ask the memory system for `bytes` bytes from p on (every 64-byte line), to be read soon.
-	/// A prefetch never faults: p may be null or stale. The loops over interactions and bodies
-	/// wait on cache misses (objects scattered on the heap); they ask a few iterations ahead.
+	/// Ask the memory system for the `bytes` bytes from p on (every 64-byte line they touch: heap
+	/// objects are 16-byte aligned, so an object of 104 bytes may span three lines), to be read
+	/// soon. A prefetch never faults: p may be null or stale. The loops over interactions and
+	/// bodies wait on cache misses (objects scattered on the heap); they ask a few iterations ahead.
 	inline void prefetch(const void* p, size_t bytes)
 	{
-		const char* c = static_cast<const char*>(p);
-		for (size_t o = 0; o < bytes; o += 64)
-			__builtin_prefetch(c + o, 0, 3);
+		const uintptr_t a = reinterpret_cast<uintptr_t>(p), end = a + bytes;
+		for (uintptr_t line = a & ~uintptr_t(63); line < end; line += 64)
+			__builtin_prefetch(reinterpret_cast<const void*>(line), 0, 3);
 	}
 
 	/// Counts the elements FlexElementEngine has erased (rupture), in any scene: FlexNewtonIntegrator

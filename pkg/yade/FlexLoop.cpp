@@ -39,14 +39,14 @@ namespace {
 	// The fields the loop and the contact functors read: the interaction (ids, functor cache,
 	// geom, phys), a body's first lines (id, flags, shape, state, material, clumpId), a state's
 	// position, velocities and orientation, a contact geometry and physics.
-	constexpr size_t kBodyBytes = std::min<size_t>(sizeof(Body), 192), kStateBytes = std::min<size_t>(sizeof(State), 320);
+	constexpr size_t kBodyBytes = std::min<size_t>(sizeof(Body), 192), kStateBytes = std::min<size_t>(sizeof(State), 320); // 176 and 320 here
 
 	inline void fetchTargets(const Interaction* I, const Bodies& b)
 	{
 		if (Body* b1 = b.get(I->getId1())) fetch(b1, kBodyBytes);
 		if (Body* b2 = b.get(I->getId2())) fetch(b2, kBodyBytes);
-		if (const IGeom* g = I->geom.get()) fetch(g, 256);
-		if (const IPhys* p = I->phys.get()) fetch(p, 128);
+		if (const IGeom* g = I->geom.get()) fetch(g, sizeof(FlexContactGeom)); // (the largest geom of the module's contacts)
+		if (const IPhys* p = I->phys.get()) fetch(p, sizeof(FrictPhys));
 	}
 
 	// The pairs the time stepper marked as unable to touch before the collider runs again
@@ -75,7 +75,7 @@ namespace {
 		for (Body::id_t id : { I->getId1(), I->getId2() })
 			if (const Body* body = b.get(id)) {
 				if (const State* s = body->state.get()) fetch(s, kStateBytes);
-				if (const Shape* sh = body->shape.get()) fetch(sh, 64);
+				if (const Shape* sh = body->shape.get()) fetch(sh, sizeof(Sphere)); // (the radius is its last field)
 			}
 	}
 }
