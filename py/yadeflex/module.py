@@ -44,6 +44,10 @@ G = 9.81
 # a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
 # as well as its kinetic energy negligible (bench/fill_equilibrium.py)
 UNBALANCED_TOL = 0.05
+# time step of the filling, x FlexTimeStepper's estimate: the fill settles under heavy local
+# damping, so it is not tied to the impact's ModuleParams.timestep_safety, and hitting one fill
+# at several steps (convergence checks) loads the same cached fill
+FILL_TIMESTEP_SAFETY = 1.0
 
 # Fill presets: grain size range [m] (the simulated size; real sand is far too fine for a
 # sphere-per-grain model and is represented by coarser grains with its bulk properties),
@@ -80,7 +84,7 @@ class ModuleParams:
     impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
     damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
-    timestep_safety: float = 1.0     # [-] time step = this x FlexTimeStepper's critical-step estimate (margin of the default module: 3x, bench/STABILITY.md)
+    timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 2.16x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
     seed: int = 1
     n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
@@ -102,10 +106,12 @@ class ModuleParams:
             p["young"] = self.fill_young
         return p
 
-    def engines(self, damping):
-        """yadeflex.engines() with this module's rolling resistance."""
+    def engines(self, damping, timestep_safety=None):
+        """yadeflex.engines() with this module's rolling resistance (time step: timestep_safety,
+        default this module's)."""
         rf = self.preset()["rolling_friction"]
-        return engines(damping=damping, timestep_safety=self.timestep_safety, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
+        ts = self.timestep_safety if timestep_safety is None else timestep_safety
+        return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
     def validate(self):
         """Raise ValueError naming the first bad parameter (before any simulation starts)."""
@@ -161,8 +167,9 @@ class ModuleParams:
     def fill_key(self):
         """Hash of every parameter the filled module depends on (the cache key)."""
         d = dataclasses.asdict(self)
-        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping"):
+        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety"):
             d.pop(k)
+        d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
         d["_version"] = 12  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets
         if self.with_rope():
@@ -278,7 +285,7 @@ def settle_fill(params, r_in, rnd, progress=None):
     # densification: no friction, no rolling resistance (a standard DEM filling procedure)
     phi = gmat.frictionAngle
     gmat.frictionAngle = 0.0
-    O.engines = engines(damping=params.settle_damping, timestep_safety=params.timestep_safety, rolling_stiffness=0.0, rolling_friction=0.0)
+    O.engines = engines(damping=params.settle_damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=0.0, rolling_friction=0.0)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill, dense", s, ke)))
@@ -290,7 +297,7 @@ def settle_fill(params, r_in, rnd, progress=None):
         if i.isReal and hasattr(i.phys, "tangensOfFrictionAngle"):
             angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
             i.phys.tangensOfFrictionAngle = math.tan(min(angles))
-    O.engines = params.engines(params.settle_damping)
+    O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill", s, ke)), unbalanced_tol=UNBALANCED_TOL)
     # trim: keep the grains wholly below the module's height
     for g in list(grains):
@@ -347,7 +354,7 @@ def build_filled(params, progress=None):
         from .rope import rope_around
         rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(contact_young=params.steel_contact_young))
         rope = dict(nodes=rn, cylinders=rc)
-    O.engines = params.engines(params.settle_damping)
+    O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
     # the structure settles onto the fill: the mesh takes up its slack, a creep that local
     # damping slows down; 1e-3 of the fill's potential energy scale is "negligible" here
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke: progress("structure", s, ke)))

@@ -151,3 +151,15 @@ def test_a_collapsing_time_step_stops_the_run_and_names_the_body(tmp_path):
     assert r.returncode == 2, r.stdout[-2000:] + r.stderr[-2000:]
     assert "time step collapsed" in r.stderr and "#" in r.stderr.split("it is set by", 1)[1]
     assert (tmp_path / "c" / "summary.json").exists()  # results up to the stop are written
+
+
+def test_impact_settings_share_one_fill():
+    """The cache key depends on what the fill depends on: not on the boulder, the impact's
+    damping or its time step (the fill settles at FILL_TIMESTEP_SAFETY), so convergence checks
+    in the step hit the same fill; it does depend on the fill's own parameters."""
+    from yadeflex.module import ModuleParams
+    base = ModuleParams().fill_key()
+    for kw in (dict(timestep_safety=0.25), dict(damping=0.2), dict(boulder_mass=1200.0), dict(impact_velocity=15.0), dict(boulder_shape="sphere")):
+        assert ModuleParams(**kw).fill_key() == base, kw
+    for kw in (dict(grain_max=0.05), dict(seed=2), dict(settle_damping=0.5), dict(lining=False), dict(diameter=0.8)):
+        assert ModuleParams(**kw).fill_key() != base, kw
