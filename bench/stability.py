@@ -9,7 +9,8 @@
 #   - time step: FlexTimeStepper keeps estimating the critical step (safety 1, its usual interval
 #     and collider triggers); a PyRunner right after it sets O.dt = factor x flexDt.dtCritical at
 #     every step, so that factors above 1 can be run. yf.engines() uses 0.5 (timestep_safety), the
-#     damping module ModuleParams.timestep_safety (0.5); --groups dtmodule searches its margin.
+#     damping module ModuleParams.timestep_safety (1.0 since 2026-11-23, 0.5 before); --groups
+#     dtmodule searches its margin.
 #   - guard: a FlexGuard with its default settings is the first engine. When it stops the run, its
 #     step and message are recorded, it is removed and the run goes on without it, so that every
 #     row says both what the guard did and what the run really did (a guard stop followed by a
@@ -402,13 +403,14 @@ def markdown(rows, margins_csv):
     dtc = {}
     for r in rows:
         dtc.setdefault((r["scene"], r["params"]), r["dt_critical_start"])
-    out += ["| scene | case | estimate at start | stable at 1.0 | last stable | first unstable (sharpness) | headroom of 0.5 | \\|residual\\| < 5% up to |",
+    out += ["| scene | case | estimate at start | stable at 1.0 | last stable | first unstable (sharpness) | headroom of the default step | \\|residual\\| < 5% up to |",
             "|---|---|---|---|---|---|---|---|"]
     for m in margins_csv:
         ok, bad = num(m["last_stable_factor"]), num(m["first_unstable_factor"])
         key = (m["scene"], m["params"])
+        default = ModuleParams().timestep_safety if m["scene"].startswith("module") else 0.5  # yf.engines()'s 0.5
         out.append(f"| {m['scene']} | {m['params']} | {1e6 * dtc.get(key, math.nan):.3g} µs | {'yes' if m['stable_at_1'] == 'True' else '**no**'} | "
-                   f"{'' if ok is None else f'{ok:.3g}'} | **{'' if bad is None else f'{bad:.3g}'}** | {'' if bad is None else f'{bad / 0.5:.2g}x'} | "
+                   f"{'' if ok is None else f'{ok:.3g}'} | **{'' if bad is None else f'{bad:.3g}'}** | {'' if bad is None else f'{bad / default:.2g}x'} | "
                    f"{m[f'residual_below_{ACCURATE:g}_up_to']} |")
     head = ["| scene | case | factor | outcome | steps | sim. ms | wall s | residual | blow-up step | guard step | broken | max speed m/s (body) |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
