@@ -496,8 +496,8 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 			if (li + 12 < nI) flexa::prefetch(intrs[li + 12].get(), sizeof(Interaction));
 			if (li + 6 < nI) {
 				const Interaction* J = intrs[li + 6].get();
-				flexa::prefetch(J->geom.get(), sizeof(FlexContactGeom));
-				flexa::prefetch(J->phys.get(), sizeof(FrictPhys));
+				if (J->geom) flexa::prefetch(J->geom.get(), sizeof(FlexContactGeom));
+				if (J->phys) flexa::prefetch(J->phys.get(), sizeof(FrictPhys));
 			}
 		}
 		const shared_ptr<Interaction>& I = intrs[li];

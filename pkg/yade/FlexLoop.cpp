@@ -7,6 +7,7 @@
 #include <lib/factory/ClassFactory.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <mutex>
 #include <stdexcept>
@@ -116,9 +117,12 @@ void FlexInteractionLoop::action()
 		for (const auto& f : geomDispatcher->functors) {
 			const IGeomFunctor* g = f.get();
 			seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
-			if (dynamic_cast<const Ig2_Sphere_Sphere_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexCylinder_FlexContactGeom*>(g)
-			    || dynamic_cast<const Ig2_FlexCylinder_FlexCylinder_FlexContactGeom*>(g) || dynamic_cast<const Ig2_Sphere_FlexFacet_FlexContactGeom*>(g)
-			    || dynamic_cast<const Ig2_FlexCylinder_FlexFacet_FlexContactGeom*>(g))
+			// the exact classes (a subclass might override go() without reading the marks)
+			const std::type_info* t = g ? &typeid(*g) : nullptr;
+			if (t
+			    && (*t == typeid(Ig2_Sphere_Sphere_FlexContactGeom) || *t == typeid(Ig2_Sphere_FlexCylinder_FlexContactGeom)
+			        || *t == typeid(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom) || *t == typeid(Ig2_Sphere_FlexFacet_FlexContactGeom)
+			        || *t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom)))
 				markReaders.push_back(g);
 		}
 	}
@@ -129,9 +133,11 @@ void FlexInteractionLoop::action()
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
+	std::atomic<bool>  failed { false }; // after the first exception the threads stop calling functors
 	auto               fail = [&](std::exception_ptr e) {
                 std::lock_guard<std::mutex> lock(errorMutex);
                 if (!error) error = e;
+                failed = true;
 	};
 
 #ifdef YADE_OPENMP
@@ -139,6 +145,7 @@ void FlexInteractionLoop::action()
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
 #endif
 	for (long c = 0; c < nBlocks; ++c) {
+		if (failed) continue;
 		const long lo = c * block, hi = std::min(n, lo + block);
 		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
 		// are left (not marked unreachable), in their order
@@ -148,7 +155,9 @@ void FlexInteractionLoop::action()
 			fetch(intrs[k].get(), sizeof(Interaction));
 		for (long i = lo; i < hi; ++i) {
 			if (i + kFar < hi) fetch(intrs[i + kFar].get(), sizeof(Interaction));
-			if (!marked(scene, *intrs[i])) live[nLive++] = i;
+			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
+			const Interaction& J = *intrs[i];
+			if (!(marked(scene, J) && bodies.get(J.getId1()) && bodies.get(J.getId2()))) live[nLive++] = i;
 		}
 		// pass 2: the live ones, with their bodies, geom and phys asked for kMid live
 		// interactions ahead and the bodies' states and shapes kNear ahead
@@ -156,7 +165,7 @@ void FlexInteractionLoop::action()
 			fetchTargets(intrs[live[j]].get(), bodies);
 		for (int j = 0; j < std::min(nLive, (int)kNear); ++j)
 			fetchStates(intrs[live[j]].get(), bodies);
-		for (int j = 0; j < nLive; ++j) {
+		for (int j = 0; j < nLive && !failed; ++j) {
 			if (j + kMid < nLive) fetchTargets(intrs[live[j + kMid]].get(), bodies);
 			if (j + kNear < nLive) fetchStates(intrs[live[j + kNear]].get(), bodies);
 			try {

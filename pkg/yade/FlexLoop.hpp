@@ -23,9 +23,13 @@
 //
 // Steps the fast path does not cover run InteractionLoop::action unchanged: interaction
 // callbacks, loopOnSortedInteractions, and the steps on which the collider asks for unseen
-// interactions to be removed. An exception thrown by a functor inside the parallel loop is
-// rethrown after it (InteractionLoop would terminate YADE); a pair with no Ip2 or Law2 functor
-// raises a RuntimeError naming the types.
+// interactions to be removed (an exception thrown by a functor there still terminates YADE, as
+// in InteractionLoop). On the fast path an exception thrown by a functor stops the threads from
+// calling further functors and is rethrown after the parallel loop (InteractionLoop would
+// terminate YADE); a pair with no Ip2 or Law2 functor raises a RuntimeError naming the types.
+// The skip of marked pairs does not look at the bodies' MPI subdomains: YADE's MPI mode is not
+// supported here (nor anywhere in yade-flex). InteractionLoop's warning for a geometry functor
+// that returns false on a real interaction is not printed (the interaction is reset all the same).
 #pragma once
 #include "FlexPch.hpp"
 
