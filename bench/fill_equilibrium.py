@@ -34,6 +34,7 @@ ap.add_argument("--chunk", type=int, default=2000)
 ap.add_argument("--damping", type=float, nargs="+", default=[0.7, 0.3, 0.0])
 ap.add_argument("--no-rolling", action="store_true", help="switch the grains' rolling resistance off (a diagnosis: is it the driver?)")
 ap.add_argument("--small", action="store_true", help="the reduced module of the tests (scripts/damping_module.py --small)")
+ap.add_argument("--timestep-safety", type=float, default=None, help="time step x the estimate (default: the module's, ModuleParams.timestep_safety; the fill is the same)")
 ap.add_argument("--cache-dir", default=None, help="where filled modules are cached (default ~/.cache/yadeflex/modules)")
 ap.add_argument("--out", default=None, help="CSV to write (default bench/results/fill_equilibrium.csv; the PNG and machine line next to it)")
 a = ap.parse_args(sys.argv[me + 1:])
@@ -44,6 +45,10 @@ p = module.ModuleParams()
 if a.small:
     import dataclasses
     p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+if a.timestep_safety is not None:
+    if not 0 < a.timestep_safety <= 1:
+        ap.error("--timestep-safety must be in (0, 1]")
+    p.timestep_safety = a.timestep_safety
 ids, cache, _ = module.filled_module(p, cache_dir=a.cache_dir)
 saved = "/tmp/yadeflex_fill_equilibrium.yade.gz"
 O.engines = []
