@@ -46,9 +46,11 @@ if a.small:
     import dataclasses
     p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
 if a.timestep_safety is not None:
-    if not 0 < a.timestep_safety <= 1:
-        ap.error("--timestep-safety must be in (0, 1]")
     p.timestep_safety = a.timestep_safety
+    try:
+        p.validate()
+    except ValueError as e:
+        ap.error(str(e))
 ids, cache, _ = module.filled_module(p, cache_dir=a.cache_dir)
 saved = "/tmp/yadeflex_fill_equilibrium.yade.gz"
 O.engines = []
@@ -86,7 +88,7 @@ for c in a.damping:
     O.load(saved)
     O.engines = p.engines(c)
     if a.no_rolling:
-        for f in next(e for e in O.engines if type(e).__name__ in ("InteractionLoop", "FlexInteractionLoop")).lawDispatcher.functors:
+        for f in next(e for e in O.engines if e.label == "interactionLoop").lawDispatcher.functors:
             if hasattr(f, "rollingFriction"):
                 f.rollingFriction, f.rollingStiffness = 0.0, 0.0
     t0 = (O.iter, O.time)

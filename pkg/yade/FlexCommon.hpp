@@ -75,6 +75,19 @@ namespace flexa {
 		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
 	}
 
+	/// Whether this geometry functor skips marked pairs itself (returns false first thing when
+	/// `!I->geom && !force && markedUnreachable(scene, *I)`, see FlexFunctors.cpp): the exact
+	/// classes, a subclass might override go() without that test. FlexInteractionLoop leaves such
+	/// pairs out before reading their bodies; keep this list and the functors in step.
+	inline bool readsUnreachableMarks(const IGeomFunctor* f)
+	{
+		if (!f) return false;
+		const std::type_info& t = typeid(*f);
+		return t == typeid(Ig2_Sphere_Sphere_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexCylinder_FlexContactGeom)
+		        || t == typeid(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexFacet_FlexContactGeom)
+		        || t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
+	}
+
 	/// Ask the memory system for the `bytes` bytes from p on (every 64-byte line they touch: heap
 	/// objects are 16-byte aligned, so an object of 104 bytes may span three lines), to be read
 	/// soon. A prefetch never faults: p may be null or stale. The loops over interactions and

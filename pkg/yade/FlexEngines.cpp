@@ -844,11 +844,11 @@ void FlexNewtonIntegrator::action()
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
-			if (k + 8 < n) flexa::prefetch(bodies[mv[k + 8]].get(), 192);
+			if (k + 8 < n) flexa::prefetch(bodies[mv[k + 8]].get(), sizeof(Body));
 			if (k + 4 < n)
 				if (const Body* bb = bodies[mv[k + 4]].get()) {
-					flexa::prefetch(bb->state.get(), std::min<size_t>(sizeof(State), 320));
-					flexa::prefetch(bb->bound.get(), 128);
+					flexa::prefetch(bb->state.get(), sizeof(State));
+					if (bb->bound) flexa::prefetch(bb->bound.get(), sizeof(Aabb));
 				}
 		}
 		const Body::id_t        id = mv[k];

@@ -1,8 +1,6 @@
 // yade-flex adapter: FlexInteractionLoop (GPL-2.0-or-later). Why and what: FlexLoop.hpp.
 #include "FlexLoop.hpp"
-#include "Flex.hpp"
 #include "FlexCommon.hpp"
-#include "FlexFacet.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -29,25 +27,21 @@ namespace {
 	// 3 ahead (pass 2).
 	constexpr long kMaxBlock = 4096; // largest blockSize
 
-	inline void fetch(const void* p, size_t bytes) { flexa::prefetch(p, bytes); }
-
 	struct Bodies {
 		const shared_ptr<Body>* p;
 		long                    n;
 		Body*                   get(Body::id_t id) const { return (id >= 0 && id < n) ? p[id].get() : nullptr; }
 	};
 
-	// The fields the loop and the contact functors read: the interaction (ids, functor cache,
-	// geom, phys), a body's first lines (id, flags, shape, state, material, clumpId), a state's
-	// position, velocities and orientation, a contact geometry and physics.
-	constexpr size_t kBodyBytes = std::min<size_t>(sizeof(Body), 192), kStateBytes = std::min<size_t>(sizeof(State), 320); // 176 and 320 here
-
+	// What the loop and the contact functors read, whole: the interaction, the bodies (id, flags,
+	// shape, state, material, clumpId), their states and shapes, the contact's geom and phys
+	// (176, 320, 104, 352 and 104 bytes for Body, State, Sphere, FlexContactGeom, FrictPhys).
 	inline void fetchTargets(const Interaction* I, const Bodies& b)
 	{
-		if (Body* b1 = b.get(I->getId1())) fetch(b1, kBodyBytes);
-		if (Body* b2 = b.get(I->getId2())) fetch(b2, kBodyBytes);
-		if (const IGeom* g = I->geom.get()) fetch(g, sizeof(FlexContactGeom)); // (the largest geom of the module's contacts)
-		if (const IPhys* p = I->phys.get()) fetch(p, sizeof(FrictPhys));
+		if (Body* b1 = b.get(I->getId1())) flexa::prefetch(b1, sizeof(Body));
+		if (Body* b2 = b.get(I->getId2())) flexa::prefetch(b2, sizeof(Body));
+		if (const IGeom* g = I->geom.get()) flexa::prefetch(g, sizeof(FlexContactGeom)); // (the largest geom of the module's contacts)
+		if (const IPhys* p = I->phys.get()) flexa::prefetch(p, sizeof(FrictPhys));
 	}
 
 	// The pairs the time stepper marked as unable to touch before the collider runs again
@@ -56,18 +50,13 @@ namespace {
 	// happens inside the functor (it returns false first thing) and after it in the loop
 	// (nothing for a pair that was not real).
 	struct Marked {
-		bool                     valid = false;
-		const IGeomFunctor*      fun[8] {};
-		int                      nFun = 0;
-		bool                     readsMarks(const IGeomFunctor* f) const
+		bool                                    valid = false;
+		const std::vector<const IGeomFunctor*>* readers; // flexa::readsUnreachableMarks, of this loop's functors
+		bool                                    operator()(const Scene* scene, const Interaction& I) const
 		{
-			for (int k = 0; k < nFun; ++k)
-				if (fun[k] == f) return true;
-			return false;
-		}
-		bool operator()(const Scene* scene, const Interaction& I) const
-		{
-			return valid && !I.geom && readsMarks(I.functorCache.geom.get()) && flexa::markedUnreachable(scene, I);
+			if (!valid || I.geom) return false;
+			const IGeomFunctor* f = I.functorCache.geom.get();
+			return std::find(readers->begin(), readers->end(), f) != readers->end() && flexa::markedUnreachable(scene, I);
 		}
 	};
 
@@ -75,8 +64,8 @@ namespace {
 	{
 		for (Body::id_t id : { I->getId1(), I->getId2() })
 			if (const Body* body = b.get(id)) {
-				if (const State* s = body->state.get()) fetch(s, kStateBytes);
-				if (const Shape* sh = body->shape.get()) fetch(sh, sizeof(Sphere)); // (the radius is its last field)
+				if (const State* s = body->state.get()) flexa::prefetch(s, sizeof(State));
+				if (const Shape* sh = body->shape.get()) flexa::prefetch(sh, sizeof(Sphere)); // (the radius is its last field)
 			}
 	}
 }
@@ -106,6 +95,7 @@ void FlexInteractionLoop::action()
 	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
 	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
 	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
+	// the functors that read the marks, found again only when the dispatcher's list changes
 	bool same = seenFunctors.size() == geomDispatcher->functors.size();
 	for (size_t k = 0; same && k < seenFunctors.size(); ++k) {
 		const IGeomFunctor* g = geomDispatcher->functors[k].get();
@@ -117,19 +107,10 @@ void FlexInteractionLoop::action()
 		for (const auto& f : geomDispatcher->functors) {
 			const IGeomFunctor* g = f.get();
 			seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
-			// the exact classes (a subclass might override go() without reading the marks)
-			const std::type_info* t = g ? &typeid(*g) : nullptr;
-			if (t
-			    && (*t == typeid(Ig2_Sphere_Sphere_FlexContactGeom) || *t == typeid(Ig2_Sphere_FlexCylinder_FlexContactGeom)
-			        || *t == typeid(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom) || *t == typeid(Ig2_Sphere_FlexFacet_FlexContactGeom)
-			        || *t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom)))
-				markReaders.push_back(g);
+			if (flexa::readsUnreachableMarks(g)) markReaders.push_back(g);
 		}
 	}
-	Marked marked;
-	marked.valid = ic.iterColliderLastRun == flexa::kMarksValid;
-	for (const IGeomFunctor* g : markReaders)
-		if (marked.nFun < 8) marked.fun[marked.nFun++] = g;
+	const Marked marked { ic.iterColliderLastRun == flexa::kMarksValid, &markReaders };
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
@@ -152,9 +133,9 @@ void FlexInteractionLoop::action()
 		long live[kMaxBlock];
 		int  nLive = 0;
 		for (long k = lo; k < std::min(hi, lo + kFar); ++k)
-			fetch(intrs[k].get(), sizeof(Interaction));
+			flexa::prefetch(intrs[k].get(), sizeof(Interaction));
 		for (long i = lo; i < hi; ++i) {
-			if (i + kFar < hi) fetch(intrs[i + kFar].get(), sizeof(Interaction));
+			if (i + kFar < hi) flexa::prefetch(intrs[i + kFar].get(), sizeof(Interaction));
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
 			if (!(marked(scene, J) && bodies.get(J.getId1()) && bodies.get(J.getId2()))) live[nLive++] = i;

@@ -39,7 +39,7 @@ namespace yade {
 
 class FlexInteractionLoop : public InteractionLoop {
 	// the geometry functors of the last step (address and dynamic type), and those among them
-	// that read the unreachable marks (classified again only when the list changes: dynamic_casts)
+	// that read the unreachable marks (flexa::readsUnreachableMarks; found again only when the list changes)
 	std::vector<std::pair<const IGeomFunctor*, const std::type_info*>> seenFunctors;
 	std::vector<const IGeomFunctor*>                                   markReaders;
 
