@@ -308,7 +308,8 @@ namespace flexa {
 	/// pair, the same distance rule also merged and split contacts of grains on mesh
 	/// wires and broke the main job's energy balance (residual 2.2% instead of 0.32%).
 	/// Returns true if self carries its cluster's contact; the other members of the
-	/// cluster are returned in `beaten` (at most 8 kept) for shear hand-over.
+	/// cluster are then returned in `beaten` (at most 8 kept) for shear hand-over (on false,
+	/// `beaten` means nothing: the search stops at the first member that beats self).
 	template <class HitOf>
 	inline bool ownsCluster(const Scene* scene, const Element& self, Body::id_t selfId, const Hit& hit, const Vector3r& n, HitOf hitOf, Body::id_t* beaten, int& nBeaten)
 	{
@@ -356,7 +357,14 @@ namespace flexa {
 					        || ((cur.n.squaredNorm() == 0 || on.squaredNorm() == 0) && (cur.h.point - oh.point).squaredNorm() < near * near);
 					if (!linked) continue; // may still join through another member
 					if (nSeen < 4 * kMaxCluster) seen[nSeen++] = other;
-					if (nCl < kMaxCluster) cl[nCl++] = { other, oe, oh, on };
+					if (nCl < kMaxCluster) {
+						cl[nCl++] = { other, oe, oh, on };
+						// a member that beats self settles it: self does not carry the contact
+						// (the loop below would return false on it; the callers read `beaten`
+						// only from an owner). Most pairs that overlap are losers, found here
+						// after a probe or two instead of the whole cluster.
+						if (oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) return false;
+					}
 				}
 			}
 		}
