@@ -79,6 +79,48 @@ def test_filling_is_cached(small_run):
     assert "loaded from" in r2.stdout
 
 
+def test_settled_fill_bears_on_the_lining(small_run, scene):
+    """The cached fill pushes on the lining with the thrust of a granular fill at rest. The
+    grains settle in a rigid container inside the lining's flat facets, so they start the
+    structure stage just clear of the lining; stopped on its kinetic energy alone, that stage
+    left the default fill with no grain touching the lining, and the fill sank 2.5 mm once
+    released without damping (bench/fill_equilibrium.py, 2026-11-23). Bounds, from Rankine's
+    thrust K gamma H^2 / 2 on the lining's perimeter: at least the active thrust of a fill whose
+    friction and rolling resistance act as a friction angle of 50 degrees (the lowest thrust a
+    cohesionless fill stands against), at most the at-rest thrust, K0 = 1 - sin(phi), of its
+    own 38 degrees (a fill compacted against an unyielding wall). Measured 2026-11-23: 141 N on
+    this module (bounds 76 and 222 N), 1238 N on the default one (1016 and 2973 N), where the
+    fill of the old stage gave 0."""
+    import math
+    from yade import O
+    from yadeflex.module import ModuleParams, filled_module, fill_radii, FILL_TIMESTEP_SAFETY
+    base, _, _ = small_run
+    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)  # --small
+    ids, _, cached = filled_module(p, cache_dir=str(base / "cache"))
+    assert cached
+    O.engines = p.engines(p.settle_damping, FILL_TIMESTEP_SAFETY)
+    O.step()  # the contact forces of the cached state
+    lining, grains = set(ids["lining"]), set(ids["grains"])
+    thrust, n = 0.0, 0
+    for i in O.interactions:
+        if not ((i.id1 in lining and i.id2 in grains) or (i.id2 in lining and i.id1 in grains)):
+            continue
+        g = i.id1 if i.id1 in grains else i.id2
+        f = i.phys.normalForce + i.phys.shearForce  # on body 2
+        on_lining = f if i.id2 != g else -f
+        x = O.bodies[g].state.pos
+        thrust += (on_lining[0] * x[0] + on_lining[1] * x[1]) / math.hypot(x[0], x[1])  # outward
+        n += 1
+    r_lin, _ = fill_radii(p)
+    weight = sum(O.bodies[g].state.mass for g in grains) * 9.81
+    gamma = weight / (math.pi * r_lin ** 2 * p.height)  # bulk unit weight of the fill
+    rankine = lambda K: K * gamma * p.height ** 2 / 2 * 2 * math.pi * r_lin
+    ka50 = (1 - math.sin(math.radians(50))) / (1 + math.sin(math.radians(50)))
+    k0 = 1 - math.sin(math.radians(p.preset()["friction_deg"]))
+    assert n >= 10, n
+    assert rankine(ka50) < thrust < rankine(k0), (thrust, rankine(ka50), rankine(k0))
+
+
 @pytest.mark.parametrize("args, msg", [
     (["--diameter", "-1"], "diameter"),
     (["--height", "0"], "height"),
