@@ -18,7 +18,7 @@
 #   3. timing: the state of each model 5 ms after first contact is kept (O.saveTmp); windows of
 #      --window steps are timed alternately, ours and built-in, --reps times each (O.loadTmp, a
 #      warm-up, then an O.step() loop; O.timingEnabled off); the median is reported.
-# Writes bench/results/module_compare[_small].csv (one row per model), ..._timeseries.csv, a PNG of
+# Writes bench/results/module_compare[_small][_jN].csv (one row per model; _jN with N > 1 OpenMP threads), ..._timeseries.csv, a PNG of
 # force-time and penetration-time, and prints a table.
 import argparse
 import csv
@@ -88,22 +88,66 @@ def plugin_line():
         return f"plugin: {e}"
 
 
-def escaped(grains, lining_nodes, mesh_nodes):
-    """(grains whose centre lies outside the lining, outside the mesh): farther from the axis than the
-    lining node (mesh node) nearest to them, + 5 mm for the mesh (a chord between nodes sags 2-3 mm).
-    The structure bulges, so a fixed radius would not do."""
+def lining_triangles(facets):
+    """Node-id triples of the lining's facets (yade-flex FlexFacet: node ids; YADE PFacet: node bodies)."""
+    tris = []
+    for f in facets:
+        b = O.bodies[f]
+        if b is None:
+            continue
+        ns = [b.shape.node1, b.shape.node2, b.shape.node3]
+        tris.append(tuple(n if isinstance(n, int) else n.id for n in ns))
+    return tris
+
+
+def escaped(grains, lining_tris, mesh_nodes, axis=(0.0, 0.0)):
+    """(grains whose centre lies outside the lining, outside the mesh too), by casting a horizontal
+    ray from the module's axis through each grain's centre against the lining's triangles as they
+    are now: a grain is outside when the ray meets the lining only nearer to the axis than its
+    centre (a ray that meets no triangle, above the lining's top, counts as inside). Outside the
+    mesh: outside the lining and farther from the axis than the mesh node nearest to it, + 5 mm
+    (a chord between nodes sags 2-3 mm). (Until 2026-11-23 the lining test compared the centre
+    with the nearest lining node's radius, which counted grains where the lining bulges between
+    its nodes: 35 grains where a ray check of the VTK frames found none outside.)"""
     import numpy as np
     P = np.array([list(O.bodies[g].state.pos) for g in grains if O.bodies[g] is not None])
-    rP = np.hypot(P[:, 0], P[:, 1])
-    out = []
-    for nodes, margin in ((lining_nodes, 0.0), (mesh_nodes, 0.005)):
-        N = np.array([list(O.bodies[n].state.pos) for n in nodes if O.bodies[n] is not None])
-        if len(N) == 0:
-            out.append(0)
-            continue
-        near = np.argmin(((P[:, None, :] - N[None, :, :])**2).sum(axis=2), axis=1)
-        out.append(int(np.sum(rP > np.hypot(N[near, 0], N[near, 1]) + margin)))
-    return tuple(out)
+    if len(P) == 0 or not lining_tris:
+        return (0, 0)
+    X = np.array([list(O.bodies[n].state.pos) if O.bodies[n] is not None else [np.nan] * 3 for n in sorted({k for t in lining_tris for k in t})])
+    index = {n: k for k, n in enumerate(sorted({k for t in lining_tris for k in t}))}
+    T = np.array([[index[n] for n in t] for t in lining_tris])
+    A, B, C = X[T[:, 0]], X[T[:, 1]], X[T[:, 2]]
+    Q = P - np.array([axis[0], axis[1], 0.0])
+    r = np.hypot(Q[:, 0], Q[:, 1])
+    r_lin_min = np.nanmin(np.hypot(X[:, 0] - axis[0], X[:, 1] - axis[1]))
+    cand = np.nonzero(r > 0.8 * r_lin_min)[0]  # grains well inside cannot be out
+    outside = np.zeros(len(P), dtype=bool)
+    E1, E2 = B - A, C - A
+    for k0 in range(0, len(cand), 256):
+        k = cand[k0:k0 + 256]
+        O_ = np.stack([np.full(len(k), axis[0]), np.full(len(k), axis[1]), P[k, 2]], axis=1)  # ray origins on the axis
+        U = np.stack([Q[k, 0] / r[k], Q[k, 1] / r[k], np.zeros(len(k))], axis=1)  # horizontal, through the centre
+        # Moller-Trumbore, grains x triangles
+        h = np.cross(U[:, None, :], E2[None, :, :])
+        det = np.einsum("tj,gtj->gt", E1, h)
+        ok = np.abs(det) > 1e-15
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        s_ = O_[:, None, :] - A[None, :, :]
+        u = np.einsum("gtj,gtj->gt", s_, h) * inv
+        q = np.cross(s_, E1[None, :, :])
+        v = np.einsum("gj,gtj->gt", U, q) * inv
+        t = np.einsum("tj,gtj->gt", E2, q) * inv
+        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        any_hit = hit.any(axis=1)
+        t_far = np.where(hit, t, -np.inf).max(axis=1)
+        outside[k] = any_hit & (t_far < r[k])
+    N = np.array([list(O.bodies[n].state.pos) for n in mesh_nodes if O.bodies[n] is not None])
+    out_mesh = 0
+    if len(N) and outside.any():
+        Po = P[outside]
+        near = np.argmin(((Po[:, None, :] - N[None, :, :])**2).sum(axis=2), axis=1)
+        out_mesh = int(np.sum(np.hypot(Po[:, 0] - axis[0], Po[:, 1] - axis[1]) > np.hypot(N[near, 0] - axis[0], N[near, 1] - axis[1]) + 0.005))
+    return int(outside.sum()), out_mesh
 
 
 def pfacet_overlap():
@@ -125,7 +169,7 @@ def touching(bid):
     return False
 
 
-def run_impact(label, bid, size, top0, grains, lining_nodes, mesh_nodes, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
+def run_impact(label, bid, size, top0, grains, lining_tris, mesh_nodes, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
                diag=None):
     """Runs the impact from the current scene, recording like scripts/damping_module.py. Returns a dict:
     rows (time series), summary numbers, energy at the end. O.saveTmp(label) at timing_at after contact."""
@@ -190,7 +234,7 @@ def run_impact(label, bid, size, top0, grains, lining_nodes, mesh_nodes, t_max=0
         if diag and len(rows) % 10 == 0:
             diag_max = max(diag_max, diag()[0])
         if len(rows) % 100 == 0:
-            esc = escaped(grains, lining_nodes, mesh_nodes)  # kept: after an instability the end state is NaN
+            esc = escaped(grains, lining_tris, mesh_nodes)  # kept: after an instability the end state is NaN
             print(f"  {label}: t = {1e3 * (O.time - start):6.1f} ms, v = {st.vel[2]:+.2f} m/s, force {f / 1e3:7.1f} kN, "
                   f"{time.time() - wall0:.0f} s", flush=True)
     wall = time.time() - wall0
@@ -201,7 +245,7 @@ def run_impact(label, bid, size, top0, grains, lining_nodes, mesh_nodes, t_max=0
     w_in = ek0 - en.get("gravWork", 0.0)  # kinetic energy at the start + work of gravity (gravWork < 0 when it works)
     after = [r for r in rows if r["t"] >= 0]
     if status == "ok":
-        esc = escaped(grains, lining_nodes, mesh_nodes)
+        esc = escaped(grains, lining_tris, mesh_nodes)
     return dict(label=label, rows=rows, energy=en, total0=total0, residual=O.energy.total() - total0, w_in=w_in, ek0=ek0, status=status,
                 peak_force=max((r["impact_force"] for r in after), default=float("nan")),
                 penetration_max=max((r["penetration"] for r in after), default=float("nan")),
@@ -271,7 +315,7 @@ def breakdown(labels, window, warmup):
 
 def main():
     a, p = parse()
-    tag = "_small" if a.small else ""
+    tag = ("_small" if a.small else "") + (f"_j{O.numThreads}" if O.numThreads > 1 else "")  # -j2: its own files
     os.makedirs(a.out, exist_ok=True)
     t_all = time.time()
     print(f"bench_module: {p.diameter} m x {p.height} m module, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s; "
@@ -288,7 +332,7 @@ def main():
     el = [e for e in O.engines if e.label == "flexElements"][0]
     print(f"ours: {len(ids['grains'])} grains, {len(ids['mesh_cylinders'])} wire legs, {len(ids['ring_top']) + len(ids['ring_bottom'])} ring "
           f"segments, {len(ids['lining'])} lining facets; damping {p.damping}", flush=True)
-    results = [run_impact("yade-flex", bid, p.boulder_size(), top0, ids["grains"], ids["lining_nodes"], ids["mesh_nodes"], timing_at=a.timing_at,
+    results = [run_impact("yade-flex", bid, p.boulder_size(), top0, ids["grains"], lining_triangles(ids["lining"]), ids["mesh_nodes"], timing_at=a.timing_at,
                           ruptured=lambda: el.nRuptured)]
     # ---- built-in
     info = bm.build(geo)
@@ -311,7 +355,7 @@ def main():
         top_b = bm.fill_top(info)
         b = bm.add_boulder(info, p)
         label = f"built-in d={damping}"
-        results.append(run_impact(label, b, p.boulder_size(), top_b, info["grains"], info["lining_nodes"], info["mesh_nodes"], timing_at=a.timing_at, dt_update=200,
+        results.append(run_impact(label, b, p.boulder_size(), top_b, info["grains"], lining_triangles(info["lining_facets"]), info["mesh_nodes"], timing_at=a.timing_at, dt_update=200,
                                   ruptured=broken, diag=pfacet_overlap))
         results[-1]["top0"] = top_b
     results[0]["top0"] = top0
@@ -381,4 +425,5 @@ def _plot(results, path, p):
     plt.close(fig)
 
 
-main()
+if __name__ == "__main__":
+    main()
