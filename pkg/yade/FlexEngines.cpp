@@ -310,6 +310,10 @@ Real FlexTimeStepper::omega2Bonds() const
 }
 
 namespace {
+	// Interactions from which FlexTimeStepper's pass over them runs on every OpenMP thread
+	// (below, starting the threads costs more than they save)
+	constexpr long kParallelStepperMin = 4096;
+
 	// What the time step needs of one body, gathered once per estimate (dynamic_casts and
 	// shared_ptr hops once per body instead of once per interaction side).
 	struct StepBody {
@@ -392,9 +396,10 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 	const Body::id_t            nb = (Body::id_t)sb.size();
 	std::vector<Real>           row(sb.size(), 0), rowRot(sb.size(), 0);
 	auto invSqrtMass = [&](Body::id_t id) -> Real { return (id < 0 || id >= nb) ? 0 : sb[id].invSqrtMass; };
-	auto addRot      = [&](Body::id_t id, Real ks, Real w, Real lever) {
-                const Real Imin = sb[id].Imin;
-                if (Imin > 0 && std::isfinite(lever)) rowRot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
+	// (rows: the thread's own row sums, see the parallel loop below)
+	auto addRot = [&](Real* rot, Body::id_t id, Real ks, Real w, Real lever) {
+		const Real Imin = sb[id].Imin;
+		if (Imin > 0 && std::isfinite(lever)) rot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
 	};
 	// the contact law, for rolling resistance between spheres (a rotational spring kr)
 	const Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
@@ -436,7 +441,7 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
                 if (sd.state) return sd;
                 sd.state      = -1;
                 const Body* b = (*scene->bodies)[id].get();
-                if (!b->bound) return sd;
+                if (!b || !b->bound) return sd;
                 const Real            sweep = b->bound->sweepLength;
                 const flexa::Element& el    = sb[id].el;
                 if (el.nNodes) {
@@ -491,6 +496,37 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 	InteractionContainer&          ic    = *scene->interactions;
 	const long                     nI    = (long)ic.size();
 	const shared_ptr<Interaction>* intrs = nI ? &ic[0] : nullptr;
+	// In parallel on large scenes (it is a serial engine's pass over every interaction, run at
+	// each collider run): each thread sums its interactions into its own rows, added up in
+	// thread order afterwards (one thread: the serial sums, bit for bit); the bodies' Sides are
+	// all computed first, so that the threads only read them. A list of the skipped pairs
+	// (unreachablePairs) is made serially, in order.
+	int nThreads = 1;
+#ifdef YADE_OPENMP
+	if (!skippedOut && nI >= kParallelStepperMin) nThreads = omp_get_max_threads();
+#endif
+	std::vector<std::vector<Real>> moreRows(2 * (nThreads - 1), std::vector<Real>(sb.size(), 0));
+	if (canSkip && nThreads > 1) {
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(nThreads)
+#endif
+		for (long id = 0; id < (long)nb; ++id)
+			sideOf((Body::id_t)id);
+	}
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(nThreads) reduction(+ : skipped)
+#endif
+	{
+#ifdef YADE_OPENMP
+	const int thread = omp_get_thread_num();
+#else
+	const int thread = 0;
+#endif
+	Real* const myRow = thread == 0 ? row.data() : moreRows[2 * (thread - 1)].data();
+	Real* const myRot = thread == 0 ? rowRot.data() : moreRows[2 * (thread - 1) + 1].data();
+#ifdef YADE_OPENMP
+#pragma omp for schedule(static)
+#endif
 	for (long li = 0; li < nI; ++li) {
 		if (prefetch) { // the interaction 12 ahead, what the one 6 ahead points to (FlexLoop.hpp)
 			if (li + 12 < nI) flexa::prefetch(intrs[li + 12].get(), sizeof(Interaction));
@@ -512,8 +548,8 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 					if (fp) {
 						const Real kr = law->rollingK(*g, *fp);
 						if (kr > 0) { // 2 kr / I on each side (Gershgorin row of the coupled pair)
-							addRot(I->getId1(), kr, 1, 1);
-							addRot(I->getId2(), kr, 1, 1);
+							addRot(myRot, I->getId1(), kr, 1, 1);
+							addRot(myRot, I->getId2(), kr, 1, 1);
 						}
 					}
 			const Real k = std::max(ph->kn, ph->ks);
@@ -559,8 +595,8 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 			for (int a = 0; a < ne; ++a) {
 				const Real ia = invSqrtMass(e[a].id);
 				if (ia == 0) continue;
-				row[e[a].id] += k * std::abs(e[a].w) * ia * S;
-				addRot(e[a].id, ph->ks, e[a].w, e[a].lever);
+				myRow[e[a].id] += k * std::abs(e[a].w) * ia * S;
+				addRot(myRot, e[a].id, ph->ks, e[a].w, e[a].lever);
 			}
 			continue;
 		}
@@ -612,10 +648,16 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 				// worst position: all weight on this node; its side's other nodes carry kappa each
 				const Real own   = (1 + kappa[s]) * ia + (nid[s] - 1) * kappa[s] * smax[s];
 				const Real other = smax[1 - s] * (1 + nid[1 - s] * kappa[1 - s]);
-				row[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
-				if (!bs[s]->el.fac) addRot(ids[s][a], ks, 1, s ? r2 : r1);
+				myRow[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
+				if (!bs[s]->el.fac) addRot(myRot, ids[s][a], ks, 1, s ? r2 : r1);
 			}
 	}
+	} // omp parallel
+	for (int t = 1; t < nThreads; ++t)
+		for (size_t i = 0; i < sb.size(); ++i) {
+			row[i] += moreRows[2 * (t - 1)][i];
+			rowRot[i] += moreRows[2 * (t - 1) + 1][i];
+		}
 	skippedCache = skipped;
 	if (mark) {
 		if (canSkip) {

@@ -42,3 +42,22 @@ def test_one_and_two_threads_agree_to_round_off():
     assert a["contacts"] > 0 and a["contacts"] == b["contacts"]
     d = _maxdiff(a, b)
     assert d < 1e-13, f"-j1 vs -j2 position difference {d} m after 200 steps"
+
+
+def _estimate(j):
+    out = run_yade(os.path.join(HERE, "scripts", "stepper_threads_scene.py"), threads=j)
+    return json.loads([l for l in out.splitlines() if l.startswith("EST ")][-1][4:])
+
+
+def test_time_step_estimate_is_the_same_on_two_threads():
+    """FlexTimeStepper's pass over the interactions runs on every thread from 4096 interactions
+    on, each thread summing its own Gershgorin rows: the estimate (made in the step, with its
+    marks, and again after it) must equal the one-thread estimate to round-off and leave out
+    as many pairs (with one thread the pass is the serial one); the list of the pairs left out
+    after the step (unreachablePairs, always serial) must be the same."""
+    a, b = _estimate(1), _estimate(2)
+    assert a["interactions"] > 4096 and a["interactions"] == b["interactions"] and a["real"] > 1000
+    assert a["skipped"] > 0 and b["skipped"] == a["skipped"]
+    assert len(a["unreachable"]) > 0 and b["unreachable"] == a["unreachable"]
+    for k in ("dtCritical", "critical"):
+        assert abs(b[k] / a[k] - 1) < 1e-12, k
