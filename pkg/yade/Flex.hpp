@@ -234,7 +234,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexElementEngine, GlobalEngine,
 		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp) and :yref:`FlexFacet` membranes (constant-strain triangle, pkg/kernel/Membrane.hpp, and their follower pressure). An element that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic', 'flexMembraneElastic', 'flexPressureWork' and 'flexRupture' in O.energy.",
 		((int, nRuptured, 0, , "Number of bonds ruptured so far [-]"))
-		((int, parallelMin, 2000, , "Run the element loop on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (measured on 2 cores: a 200-element helix takes 2x longer with -j2) [-]"))
+		((int, parallelMin, 500, , "Run each element loop (cylinders, facets) on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (measured on 2 cores: a 200-element helix takes 2x longer with -j2; the damping module's 660 cylinders and 608 facets 1.9x shorter at -j2 with 500 than with 2000, 155 against 296 us per step; 2000 until 2026-11-23). On one thread the loop is always the serial one [-]"))
 		((vector<int>, rupturedIds, , Attr::readonly, "Ids of ruptured elements, in order"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, plastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))

@@ -54,16 +54,21 @@ void FlexElementEngine::action()
 	// energies summed here and booked once per step (not twice per element)
 	Real eElastic = 0, ePlastic = 0;
 	long nPlastic = 0;
-	// Serial loop (the common case below parallelMin): forces and moments summed per node here and
-	// added to the ForceContainer once per node (each addForce costs a thread lookup and a size check)
-	const bool serial = n < parallelMin;
+	// Serial loop (below parallelMin, and always on one thread): forces and moments summed per
+	// node here and added to the ForceContainer once per node (each addForce costs a thread
+	// lookup and a size check)
+	bool parallel = false;
+#ifdef YADE_OPENMP
+	parallel = n >= parallelMin && omp_get_max_threads() > 1;
+#endif
+	const bool serial = !parallel;
 	if (serial) {
 		accF.assign(slotNode.size(), Vector3r::Zero());
 		accM.assign(slotNode.size(), Vector3r::Zero());
 	}
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, lastFlex) reduction(+ : eElastic, ePlastic, nPlastic)
+#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex) reduction(+ : eElastic, ePlastic, nPlastic)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t id = cylinders[k];
