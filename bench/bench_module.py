@@ -113,8 +113,9 @@ def escaped(grains, lining_tris, mesh_nodes, axis=(0.0, 0.0)):
     P = np.array([list(O.bodies[g].state.pos) for g in grains if O.bodies[g] is not None])
     if len(P) == 0 or not lining_tris:
         return (0, 0)
-    X = np.array([list(O.bodies[n].state.pos) if O.bodies[n] is not None else [np.nan] * 3 for n in sorted({k for t in lining_tris for k in t})])
-    index = {n: k for k, n in enumerate(sorted({k for t in lining_tris for k in t}))}
+    nodes = sorted({k for t in lining_tris for k in t})
+    X = np.array([list(O.bodies[n].state.pos) if O.bodies[n] is not None else [np.nan] * 3 for n in nodes])
+    index = {n: k for k, n in enumerate(nodes)}
     T = np.array([[index[n] for n in t] for t in lining_tris])
     A, B, C = X[T[:, 0]], X[T[:, 1]], X[T[:, 2]]
     Q = P - np.array([axis[0], axis[1], 0.0])
