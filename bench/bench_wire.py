@@ -128,14 +128,15 @@ for name in names:
             for i in ("builtin WirePM", *FLEX)]
     print(f"{name:36s}" + "".join(f"{v:16.2f}" for v in vals))
 
-# tensile curves (one run each, quasi-static 1 m/s)
+# tensile curves (one run each, quasi-static 1 m/s), sampled every 0.3 mm of elongation (a
+# coarser sampling misses the peak: bench/wire_convergence.py)
 curves = {}
 info = builtin_panel()
-res = bw.pull(velocity=1.0, max_elongation=0.3 * info["size_y"], record_every=200, max_steps=2_000_000)
+res = bw.pull(velocity=1.0, max_elongation=0.3 * info["size_y"], record_every=50, max_steps=2_000_000)
 curves["builtin WirePM"] = [(u / info["size_y"], f / info["size_x"]) for u, f, _ in res["curve"]]
 for impl, bf in FLEX.items():
     s = flex_panel(1.0, bf)
-    r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    r = tensile.mesh_tensile_test(s, chunk=40, max_elongation=0.3)
     curves[impl] = list(zip(r["elongation"], r["force_per_m"]))
 for impl, c in curves.items():
     pk = max(c, key=lambda p: p[1])
