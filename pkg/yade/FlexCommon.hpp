@@ -310,9 +310,20 @@ namespace flexa {
 	/// Returns true if self carries its cluster's contact; the other members of the
 	/// cluster are then returned in `beaten` (at most 8 kept) for shear hand-over (on false,
 	/// `beaten` means nothing: the search stops at the first member that beats self).
+	///
+	/// `partner` (body partnerId) is the other side of the contact when it is an element
+	/// (nullptr for a sphere). A member that IS the partner, or shares a node with it, can
+	/// never carry this contact (bonded neighbours have none: the Ig2 functors return false
+	/// on them), so it links the cluster as any member does but never beats self. (When it
+	/// could, it suppressed the contact while no element carried it: a mesh wire next to a
+	/// ring, beaten by a wire bonded to that ring, sank 6 mm into it with no force, and the
+	/// contact then started at that depth with 1/2 kn d^2 = 0.9 kJ from nothing: the fast
+	/// small-module impacts of bench/STABILITY.md, finding 5.)
 	template <class HitOf>
-	inline bool ownsCluster(const Scene* scene, const Element& self, Body::id_t selfId, const Hit& hit, const Vector3r& n, HitOf hitOf, Body::id_t* beaten, int& nBeaten)
+	inline bool ownsCluster(const Scene* scene, const Element& self, Body::id_t selfId, const Hit& hit, const Vector3r& n, HitOf hitOf, Body::id_t* beaten, int& nBeaten,
+	                        Body::id_t partnerId, const Element* partner)
 	{
+		auto canCarry = [&](Body::id_t id, const Element& e) { return !partner || (id != partnerId && !shareNode(e, *partner)); };
 		nBeaten = 0;
 		struct Member {
 			Body::id_t id;
@@ -363,20 +374,23 @@ namespace flexa {
 						// (the loop below would return false on it; the callers read `beaten`
 						// only from an owner). Most pairs that overlap are losers, found here
 						// after a probe or two instead of the whole cluster.
-						if (oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) return false;
+						if ((oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) && canCarry(other, oe)) return false;
 					}
 				}
 			}
 		}
 		for (int m = 1; m < nCl; ++m) {
+			if (!canCarry(cl[m].id, cl[m].e)) continue;
 			if (cl[m].h.overlap > hit.overlap || (cl[m].h.overlap == hit.overlap && cl[m].id < selfId)) return false;
 			if (nBeaten < 8) beaten[nBeaten++] = cl[m].id;
 		}
 		return true;
 	}
-	/// Ownership test of element `self` for a probe sphere (P, R), e.g. a grain, with closest
-	/// point `hit` on self: every neighbour is probed with the same sphere.
-	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
+	/// Ownership test of element `self` for a probe sphere (P, R), e.g. a grain or the
+	/// closest point of a partner element, with closest point `hit` on self: every neighbour
+	/// is probed with the same sphere. partner, partnerId: see ownsCluster.
+	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten,
+	                 Body::id_t partnerId, const Element* partner)
 	{
 		return ownsCluster(
 		        scene, self, selfId, hit, (P - hit.point).normalized(),
@@ -385,7 +399,7 @@ namespace flexa {
 			        on          = (P - h.point).normalized();
 			        return h;
 		        },
-		        beaten, nBeaten);
+		        beaten, nBeaten, partnerId, partner);
 	}
 	/// Shear force (on body 2 of I) that interaction between `otherBody` and one of the
 	/// `beaten` neighbours carried at the previous step, expressed for an interaction whose

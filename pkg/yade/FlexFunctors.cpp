@@ -54,7 +54,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	// `overlap` is bit-identical to what a neighbour's test computes for this element (same
 	// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
 	const flexa::Element self = flexa::elementOf(&cyl);
-	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb);
+	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb, I->getId1(), nullptr);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -107,8 +107,8 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	int        nb1 = 0, nb2 = 0;
 	// each side tests its own neighbours with the other side's closest point as a probe
 	const flexa::Element e1 = flexa::elementOf(&c1), e2 = flexa::elementOf(&c2);
-	const bool           own = overlap > 0 && flexa::owns(scene, e1, I->getId1(), ss.p2, c2.radius, flexa::probe(scene, e1, ss.p2, c2.radius), beaten1, nb1)
-	        && flexa::owns(scene, e2, I->getId2(), ss.p1, c1.radius, flexa::probe(scene, e2, ss.p1, c1.radius), beaten2, nb2);
+	const bool           own = overlap > 0 && flexa::owns(scene, e1, I->getId1(), ss.p2, c2.radius, flexa::probe(scene, e1, ss.p2, c2.radius), beaten1, nb1, I->getId2(), &e2)
+	        && flexa::owns(scene, e2, I->getId2(), ss.p1, c1.radius, flexa::probe(scene, e2, ss.p1, c1.radius), beaten2, nb2, I->getId1(), &e1);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -190,7 +190,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 	Body::id_t           beaten[8];
 	int                  nb   = 0;
 	const flexa::Element self = flexa::elementOf(&fa);
-	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb);
+	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb, I->getId1(), nullptr);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -262,9 +262,9 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
                 return flexa::segmentHit(oe, flex::PointSegment { so.s, so.p1 }, oe.radius + fa.radius - (so.p1 - so.t.point).norm());
 	};
 	const bool own = overlap > 0
-	        && (pierced ? flexa::ownsCluster(scene, ec, I->getId1(), flexa::segmentHit(ec, flex::PointSegment { st.s, st.p1 }, overlap), Vector3r::Zero(), wireHit, beaten1, nb1)
-	                    : flexa::owns(scene, ec, I->getId1(), st.t.point, fa.radius, flexa::probe(scene, ec, st.t.point, fa.radius), beaten1, nb1))
-	        && flexa::owns(scene, ef, I->getId2(), st.p1, c.radius, flexa::probe(scene, ef, st.p1, c.radius), beaten2, nb2);
+	        && (pierced ? flexa::ownsCluster(scene, ec, I->getId1(), flexa::segmentHit(ec, flex::PointSegment { st.s, st.p1 }, overlap), Vector3r::Zero(), wireHit, beaten1, nb1, I->getId2(), &ef)
+	                    : flexa::owns(scene, ec, I->getId1(), st.t.point, fa.radius, flexa::probe(scene, ec, st.t.point, fa.radius), beaten1, nb1, I->getId2(), &ef))
+	        && flexa::owns(scene, ef, I->getId2(), st.p1, c.radius, flexa::probe(scene, ef, st.p1, c.radius), beaten2, nb2, I->getId1(), &ec);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);

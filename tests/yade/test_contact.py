@@ -188,3 +188,32 @@ def test_bonded_neighbours_never_become_contacts(scene):
     assert len([i for i in O.interactions if i.isReal]) == 0
     # and they cost nothing per step: their collider pairs are gone, not merely skipped
     assert len(O.interactions) == 0
+
+
+def _hairpin(delta, r=0.002):
+    """A chain A-B-Q-R folded back over itself at B: P = A-B along x, X = B-Q back over P, S =
+    Q-R along P at height 2r - delta (its end Q overlaps P by delta; S shares no node with P).
+    All nodes held. Returns (P, X, S) cylinder ids and S's nodes."""
+    mat = yf.steel(friction_deg=0)
+    nodes, cyls = yf.chain([(-0.1, 0, 0), (0, 0, 0), (-0.01, 0, 2 * r - delta), (-0.05, 0, 2 * r + 0.0025)], r, mat)
+    yf.fix(nodes)
+    return cyls, nodes[2:]
+
+
+@pytest.mark.parametrize("delta", [1e-4, 5e-4])
+def test_contact_is_not_suppressed_by_a_wire_bonded_to_the_partner(scene, delta):
+    # X is bonded to both P (node B) and S (node Q) and lies closer to P's closest point than S
+    # does: as a member of S's cluster it used to beat S, although X can never touch P (bonded
+    # neighbours), so no element carried the S-P contact and S sank into P with no force; the
+    # contact then started at its full depth, 1/2 kn delta^2 from nothing (the fast small-module
+    # impacts of bench/STABILITY.md, finding 5: wires sinking 6 mm into the rings)
+    (p, x, s), s_nodes = _hairpin(delta)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    on_s = _active(s)
+    assert [(min(i.id1, i.id2), max(i.id1, i.id2)) for i in on_s] == [(p, s)], "exactly one contact, S on P"
+    assert not _active(x), "X is bonded to P and S: no contact"
+    kn = on_s[0].phys.kn
+    fz = sum(O.forces.f(n)[2] for n in s_nodes)
+    assert_rel(fz, kn * delta, 1e-6, "S pushed off P by kn x overlap")
