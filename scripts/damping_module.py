@@ -24,7 +24,7 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
 
 
 def parse():
@@ -117,9 +117,25 @@ def main():
     t_wall = time.time()
     print(f"damping module: {p.n_modules} x {p.diameter} m x {p.height} m{' with a boundary rope' if p.with_rope() else ''}, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s")
 
-    def prog(stage, steps, ke):
-        if steps % 10000 == 0:
-            print(f"  {stage}: {steps} steps, kinetic energy {ke:.3g} J, {time.time() - t_wall:.0f} s", flush=True)
+    last = {}  # stage -> (wall time, kinetic energy) at its last report
+
+    def prog(stage, steps, ke, target):
+        if steps == 0:
+            print(f"  {stage}: settles until the kinetic energy is below {target:.3g} J (filled once, then cached)", flush=True)
+            return
+        if steps % 10000:
+            return
+        now = time.time()
+        # time left in this stage, from the exponential decay of the kinetic energy since the
+        # last report (the stages that also wait for the unbalanced force may take longer)
+        eta = ""
+        if stage in last and 0 < ke < last[stage][1] and ke > target:
+            rate = math.log(last[stage][1] / ke) / (now - last[stage][0])
+            eta = f", ~{math.log(ke / target) / rate:.0f} s left in this stage at the current decay"
+        elif ke <= target:  # (only the stages that also wait for the unbalanced force go on)
+            eta = f", below its target: waiting for the unbalanced force to fall below {UNBALANCED_TOL}"
+        last[stage] = (now, ke)
+        print(f"  {stage}: {steps} steps, kinetic energy {ke:.3g} J, {now - t_wall:.0f} s{eta}", flush=True)
     ids, cache_file, cached = filled_module(p, cache_dir=a.cache_dir, progress=prog)
     t_fill = time.time() - t_wall
     print(f"filled module {'loaded from' if cached else 'built and saved to'} {cache_file} ({t_fill:.0f} s): "

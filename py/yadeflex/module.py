@@ -217,7 +217,8 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
     """Run until the kinetic energy of the spheres falls below ke_tol [J] and, if unbalanced_tol
     is given, YADE's unbalanced force (mean resultant on the dynamic bodies over the mean contact
     force) below it too: a packing at rest, not one creeping slowly under heavy damping (a loose
-    fill met the kinetic-energy test while still compacting at an unbalanced force of 0.19)."""
+    fill met the kinetic-energy test while still compacting at an unbalanced force of 0.19).
+    progress(steps, kinetic energy, ke_tol) after every chunk."""
     from yade import utils
     steps = 0
     ubf = float("nan")
@@ -227,7 +228,7 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
         steps += chunk
         ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and isinstance(b.shape, Sphere))
         if progress:
-            progress(steps, ke)
+            progress(steps, ke, ke_tol)
         if ke < ke_tol:
             if unbalanced_tol is None:
                 return steps
@@ -290,7 +291,9 @@ def settle_fill(params, r_in, rnd, progress=None):
     O.engines = engines(damping=params.settle_damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=0.0, rolling_friction=0.0)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill, dense", s, ke)))
+    if progress:  # the count of grains sets the time a step takes
+        progress(f"fill, dense ({len(grains)} grains placed, {int(3.4 * H / a)} layers)", 0, float("nan"), ke_tol)
+    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, dense", s, ke, tol)))
     # then the fill's own friction and rolling resistance, on the existing contacts too (as
     # Ip2_FrictMat_FrictMat_FrictPhys sets it: the smaller angle of the two materials, so the
     # container stays frictionless)
@@ -300,7 +303,7 @@ def settle_fill(params, r_in, rnd, progress=None):
             angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
             i.phys.tangensOfFrictionAngle = math.tan(min(angles))
     O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke: progress("fill", s, ke)), unbalanced_tol=UNBALANCED_TOL)
+    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
     # trim: keep the grains wholly below the module's height
     for g in list(grains):
         b = O.bodies[g]
@@ -364,7 +367,7 @@ def build_filled(params, progress=None):
     # this damping; stopped on the kinetic energy the cached fill had no grain touching the
     # lining and sank 2.5 mm once released without damping (bench/fill_equilibrium.py,
     # 2026-11-23). The unbalanced force holds it until the fill bears on the lining.
-    _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke: progress("structure", s, ke)), unbalanced_tol=UNBALANCED_TOL)
+    _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke, tol: progress("structure", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
     ids = dict(per[0], wall=wall, grains=grains, modules=per, rope=rope["cylinders"], rope_nodes=rope["nodes"],
                base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
     O.tags["yadeflex_module"] = json.dumps(ids)
@@ -374,8 +377,9 @@ def build_filled(params, progress=None):
 def filled_module(params, cache_dir=None, progress=None):
     """The settled module on O: loaded from the cache when it holds this key (with
     params.engines(params.damping) set), else built and saved there. A cache file this build
-    cannot read (classes changed since it was saved) is filled again. Returns (ids,
-    cache_file, from_cache)."""
+    cannot read (classes changed since it was saved) is filled again. progress(stage, steps,
+    kinetic energy [J], its target [J]) is called while filling (steps 0: a stage starts).
+    Returns (ids, cache_file, from_cache)."""
     params.validate()
     cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
     os.makedirs(cache_dir, exist_ok=True)
