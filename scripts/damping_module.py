@@ -162,6 +162,9 @@ def main():
     mid = [n for n in mesh_nodes if abs(O.bodies[n].state.pos[2] - 0.5 * p.height) < 0.15 * p.height]
     ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"], rope=ids.get("rope", []))
     el = [e for e in O.engines if e.label == "flexElements"][0]
+    # contacts found late (a missed or suppressed contact starts deep: its spring energy comes from nothing)
+    law = next(f for e in O.engines if hasattr(e, "lawDispatcher") for f in e.lawDispatcher.functors
+               if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack")
     rows, erows = [], []
     v_prev, t_prev = Vector3(boulder.state.vel), O.time
     e_impact = 0.5 * mass * p.impact_speed() ** 2
@@ -293,6 +296,8 @@ def main():
         ring_top_force_max=max(r["ring_top_force"] for r in rows), ring_bottom_force_max=max(r["ring_bottom_force"] for r in rows),
         rope_force_max=max(r["rope_force"] for r in rows), n_modules=p.n_modules,
         broken_wires=el.nRuptured, impact_energy=e_impact, max_overlap_ratio=max_overlap_ratio,
+        deep_contact_onsets=law.deepOnsets, deep_onset_energy=law.deepOnsetEnergy,
+        deep_contact_endings=law.deepEndings, deep_ending_energy=law.deepEndingEnergy,
         energy_end={k: last.get(k, 0.0) for k in keys},
         energy_residual_max_fraction=resid,
         numerical_damping_share=(last.get("nonviscDamp", 0.0) / e_impact),
@@ -306,7 +311,9 @@ def main():
     except Exception as e:  # plots are a convenience: never lose the numbers over them
         print(f"  (plots failed: {e})")
     print(f"done in {wall_t:.0f} s: peak force {peak_f / 1e3:.1f} kN, penetration {1e3 * summary['penetration_max']:.0f} mm, "
-          f"slab {summary['slab_force_max'] / 1e3:.1f} kN, energy residual {100 * resid:.2f}% of {e_impact:.0f} J; results in {out}")
+          f"slab {summary['slab_force_max'] / 1e3:.1f} kN, energy residual {100 * resid:.2f}% of {e_impact:.0f} J, "
+          f"contact hand-overs {law.deepOnsetEnergy - law.deepEndingEnergy:+.3g} J ({law.deepOnsets} started deep with "
+          f"{law.deepOnsetEnergy:.3g} J, {law.deepEndings} ended overlapping with {law.deepEndingEnergy:.3g} J); results in {out}")
     if status:
         return status
     if resid > a.max_residual:

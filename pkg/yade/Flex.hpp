@@ -134,7 +134,8 @@ public:
 		((long, lastActiveIter, -2, , "Last iteration at which it was active"))
 		((bool, handover, false, , "Took over the shear force of a neighbour this step"))
 		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]"))
-		((Vector3r, rollMoment, Vector3r::Zero(), , "Rolling-resistance moment on body 2 (sphere-sphere contacts) [N m]")),
+		((Vector3r, rollMoment, Vector3r::Zero(), , "Rolling-resistance moment on body 2 (sphere-sphere contacts) [N m]"))
+		((Real, onsetDepth, 0, (Attr::noSave | Attr::readonly), "Overlap this contact (re)started with at this step if that was a deep onset (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.deepOnsets`), else 0 [m]")),
 		createIndex();
 	);
 	// clang-format on
@@ -207,6 +208,11 @@ public:
 		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Books 'flexContactElastic', 'flexFriction' and 'flexRolling' in O.energy.",
 		((Real, rollingStiffness, 0, , "Rolling stiffness of sphere-sphere contacts as kr / (ks R^2) [-]; 0: no rolling resistance"))
 		((Real, rollingFriction, 0, , "Rolling friction coefficient eta: the rolling moment is capped at eta R |Fn| [-]"))
+		((long, deepOnsets, 0, , "Contacts that started with an overlap larger than onsetFactor x (their approach speed x dt): taken over from a neighbour element (a hand-over, see deepEndings), detected late (missed by the collider, or held back by a cluster's ownership rule) or in a scene built overlapping [-]"))
+		((Real, deepOnsetEnergy, 0, , "Sum of 1/2 kn d^2 over the deep onsets: normal spring energy that came with them [J]"))
+		((long, deepEndings, 0, , "Contacts that ended while still overlapping: handed over to a neighbour element, which then starts deep (see deepOnsets) [-]"))
+		((Real, deepEndingEnergy, 0, , "Sum of 1/2 kn d^2 over the deep endings: normal spring energy that went with them [J]. deepOnsetEnergy - deepEndingEnergy is the energy the hand-overs and late contacts created: a hand-over inside a cluster passes on the same overlap, so its onset and ending cancel; a contact detected late brings energy from nothing"))
+		((Real, onsetFactor, 2, , "An onset counts as deep when its overlap exceeds onsetFactor x the approach speed x dt (the overlap one step of approach gives; 2 leaves room for the change of speed within the step) [-]"))
 		((int, rollIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, frictIx, -1, (Attr::hidden | Attr::noSave), "energy index"))

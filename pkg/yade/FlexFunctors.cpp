@@ -17,6 +17,7 @@ namespace {
 		const bool wasActive = g.lastActiveIter == scene->iter - 1;
 		g.active             = own;
 		g.handover           = false;
+		g.onsetDepth         = 0;
 		if (!own) return; // lastActiveIter untouched: neighbours may read this interaction now
 		if (!wasActive) {
 			// a contact (re)starting: it takes over the shear of the neighbour that carried it
@@ -27,6 +28,7 @@ namespace {
 				if (nb2) flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh);
 			g.handover      = true;
 			g.handoverShear = sh;
+			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
 		}
 		g.lastActiveIter = scene->iter;
 	}
@@ -374,9 +376,33 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 			const Real kr = rollingK(g, p);
 			if (kr > 0) flexa::addEnergy(scene, 0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
 		}
+		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) { // ended while overlapping (see deepEndings)
+			const Real e = 0.5 * p.kn * g.penetrationDepth * g.penetrationDepth;
+#ifdef YADE_OPENMP
+#pragma omp critical(flexDeepOnset)
+#endif
+			{
+				++deepEndings;
+				deepEndingEnergy += e;
+			}
+		}
 		return g.lastActiveIter >= scene->iter - 1;
 	}
 	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+	if (g.onsetDepth > 0) {
+		const Real approach = std::max(Real(0), -g.normal.dot(g.relVel)) * scene->dt;
+		if (g.onsetDepth > onsetFactor * approach) {
+			const Real e = 0.5 * p.kn * g.onsetDepth * g.onsetDepth;
+#ifdef YADE_OPENMP
+#pragma omp critical(flexDeepOnset)
+#endif
+			{
+				++deepOnsets;
+				deepOnsetEnergy += e;
+			}
+		} else
+			g.onsetDepth = 0; // a normal onset
+	}
 	const Vector3r&              n     = g.normal;
 	const Vector3r               shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r               dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;

@@ -217,3 +217,56 @@ def test_contact_is_not_suppressed_by_a_wire_bonded_to_the_partner(scene, delta)
     kn = on_s[0].phys.kn
     fz = sum(O.forces.f(n)[2] for n in s_nodes)
     assert_rel(fz, kn * delta, 1e-6, "S pushed off P by kn x overlap")
+
+
+def _law():
+    return next(f for e in O.engines if hasattr(e, "lawDispatcher") for f in e.lawDispatcher.functors
+                if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack")
+
+
+def test_contact_starting_overlapped_is_counted_with_its_spring_energy(scene):
+    # a sphere placed into a wire: its contact starts at the full overlap, 1/2 kn delta^2 from nothing
+    r, R, delta = 0.005, 0.02, 2e-4
+    _clamped_chain([(-0.2, 0, 0), (0.2, 0, 0)], r, yf.steel(friction_deg=0))
+    s = sphere((0.03, 0, R + r - delta), R, young=1e9, friction_deg=0)
+    _prescribe(s)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    law, (c,) = _law(), _active(s)
+    assert law.deepOnsets == 1
+    assert_rel(law.deepOnsetEnergy, 0.5 * c.phys.kn * delta ** 2, 1e-9, "onset energy")
+    assert_rel(c.geom.onsetDepth, delta, 1e-9, "onset depth")
+    for _ in range(10):
+        O.step()
+    assert (law.deepOnsets, law.deepEndings) == (1, 0), "a lasting contact is counted once"
+
+
+@pytest.mark.parametrize("target", ["midspan", "node"])
+def test_contacts_reached_by_motion_start_within_one_step_and_hand_overs_cancel(scene, target):
+    # a sphere flying at 3 m/s onto a wire chain, at mid-span or onto the shared node, starts its
+    # contact within one step of approach (no deep onset); then sliding along the wire across the
+    # node, its contact passes from one segment to the other: one deep ending and one deep onset
+    # with the same overlap, so the same spring energy
+    r, R, v = 0.005, 0.02, 3.0
+    mat = yf.steel(friction_deg=0)
+    _, cyls = _clamped_chain([(-0.2, 0, 0), (0, 0, 0), (0.2, 0, 0)], r, mat)
+    x0 = -0.03 if target == "midspan" else 0.0
+    s = sphere((x0, 0, R + r + 0.002), R, young=1e9, friction_deg=0)
+    _prescribe(s, vel=(0, 0, -v))
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.step()
+    while not _active(s):
+        O.step()
+    law = _law()
+    assert (law.deepOnsets, law.deepEndings) == (0, 0)
+    O.bodies[s].state.vel = Vector3(2 * v, 0, 0)  # now slide along the wire, across the node
+    owners = []
+    while O.bodies[s].state.pos[0] < x0 + 0.05:
+        O.step()
+        (c,) = _active(s)
+        owners.append(c.id1 + c.id2 - s)
+    assert owners[0] == cyls[0] and owners[-1] == cyls[1], "the contact passed from one segment to the other"
+    assert (law.deepOnsets, law.deepEndings) == (1, 1)
+    # the same overlap up to its change in one step (here none: sliding along a straight wire)
+    assert_rel(law.deepOnsetEnergy, law.deepEndingEnergy, 1e-4, "a hand-over passes on its spring energy")

@@ -63,6 +63,11 @@ def test_energy_balance_closes(small_run):
     e = s["energy_end"]
     # where the impact energy went: friction and plasticity, not damping
     assert e["flexFriction"] > 0.3 * s["impact_energy"]
+    # contact hand-overs between elements pass their spring energy on (measured 2026-11-23: 7.5 J
+    # in, 6.6 J out over about 150 each, net 0.09% of the impact energy); their net is part of
+    # the residual and held to the same 2%
+    assert s["deep_contact_onsets"] > 0 and s["deep_contact_endings"] > 0
+    assert abs(s["deep_onset_energy"] - s["deep_ending_energy"]) < 0.02 * s["impact_energy"]
 
 
 def test_free_fall_speed_at_impact(small_run):
