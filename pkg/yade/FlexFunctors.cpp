@@ -11,6 +11,18 @@ YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylin
         Law2_FlexContactGeom_FrictPhys_CundallStrack));
 
 namespace {
+	// One more deep onset or ending and its spring energy (rare: one lock per event)
+	void tally(long& count, Real& energy, Real e)
+	{
+#ifdef YADE_OPENMP
+#pragma omp critical(flexDeepOnset)
+#endif
+		{
+			++count;
+			energy += e;
+		}
+	}
+
 	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
 	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherOf1, const Body::id_t* beaten1, int nb1, Body::id_t otherOf2, const Body::id_t* beaten2, int nb2)
 	{
@@ -376,31 +388,15 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 			const Real kr = rollingK(g, p);
 			if (kr > 0) flexa::addEnergy(scene, 0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
 		}
-		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) { // ended while overlapping (see deepEndings)
-			const Real e = 0.5 * p.kn * g.penetrationDepth * g.penetrationDepth;
-#ifdef YADE_OPENMP
-#pragma omp critical(flexDeepOnset)
-#endif
-			{
-				++deepEndings;
-				deepEndingEnergy += e;
-			}
-		}
+		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) // ended while overlapping (see deepEndings)
+			tally(deepEndings, deepEndingEnergy, 0.5 * p.kn * g.penetrationDepth * g.penetrationDepth);
 		return g.lastActiveIter >= scene->iter - 1;
 	}
 	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 	if (g.onsetDepth > 0) {
 		const Real approach = std::max(Real(0), -g.normal.dot(g.relVel)) * scene->dt;
-		if (g.onsetDepth > onsetFactor * approach) {
-			const Real e = 0.5 * p.kn * g.onsetDepth * g.onsetDepth;
-#ifdef YADE_OPENMP
-#pragma omp critical(flexDeepOnset)
-#endif
-			{
-				++deepOnsets;
-				deepOnsetEnergy += e;
-			}
-		} else
+		if (g.onsetDepth > onsetFactor * approach) tally(deepOnsets, deepOnsetEnergy, 0.5 * p.kn * g.onsetDepth * g.onsetDepth);
+		else
 			g.onsetDepth = 0; // a normal onset
 	}
 	const Vector3r&              n     = g.normal;
