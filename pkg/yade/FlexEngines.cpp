@@ -50,7 +50,7 @@ void FlexElementEngine::action()
 	const bool              energy = scene->trackEnergy;
 	const Material* lastMat  = nullptr; // elements mostly share a material: cast it once
 	const FlexMat*  lastFlex = nullptr;
-	auto&           bodies   = *scene->bodies;
+	const shared_ptr<Body>* bodies   = scene->bodies->body.data(); // (indexed directly: BodyContainer::operator[] is an out-of-line call)
 	// energies summed here and booked once per step (not twice per element)
 	Real eElastic = 0, ePlastic = 0;
 	long nPlastic = 0;
@@ -198,7 +198,7 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 	const Material* lastMat  = nullptr;
 	const FlexMembraneMat* mat = nullptr;
 	flex::MembraneLaw      law;
-	auto&                  bodies = *scene->bodies;
+	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const Real             dt     = scene->dt;
 	const long             n      = (long)facets.size();
 	Real eMemb = 0, ePress = 0;
