@@ -139,7 +139,9 @@ def main():
     ids, cache_file, cached = filled_module(p, cache_dir=a.cache_dir, progress=prog)
     t_fill = time.time() - t_wall
     print(f"filled module {'loaded from' if cached else 'built and saved to'} {cache_file} ({t_fill:.0f} s): "
-          f"{len(ids['grains'])} grains, {len(ids['mesh_cylinders'])} wire legs, {len(ids['lining'])} lining facets")
+          f"{len(ids['grains'])} grains, {sum(len(m['mesh_cylinders']) for m in ids['modules'])} wire legs, "
+          f"{sum(len(m['lining']) for m in ids['modules'])} lining facets"
+          + (f" in {len(ids['modules'])} modules" if len(ids["modules"]) > 1 else ""))
     top0 = fill_top(ids)
     bid = add_boulder(p, ids)
     s = p.boulder_size()
