@@ -58,18 +58,28 @@ BeamRest makeBeamRest(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat
 }
 
 namespace {
-	// rotation vector taking unit vector a onto unit vector b (perpendicular to both):
-	// (angle / sin angle) (a x b). Bending angles of an element are usually small: below
-	// sin^2 = 1e-4 the series angle/sin = 1 + s^2/6 + 3 s^4/40 is exact to 5e-14 (next term
-	// 5 s^6/112) and needs neither atan2 nor sqrt (the hot spots of the element loop).
-	inline Vec3 rotationBetween(const Vec3& a, const Vec3& b)
+	// theta = f(alpha) (e x a) takes unit vector e onto unit vector a (alpha the angle between
+	// them, f = alpha / sin alpha); also h = f'(alpha) / sin alpha = (sin alpha - alpha cos
+	// alpha) / sin^3 alpha, for the gradient. Bending angles of an element are usually small:
+	// below sin^2 = 1e-4 the series f = 1 + s^2/6 + 3 s^4/40 and h = 1/3 + 2 s^2/15 + 31 s^4/315
+	// (s = sin alpha) are exact to 5e-14 and need neither atan2 nor sqrt (the hot spots of the
+	// element loop).
+	struct Rot {
+		Vec3   theta;
+		double f, h;
+	};
+	inline Rot rotationBetween(const Vec3& e, const Vec3& a)
 	{
-		const Vec3   c  = a.cross(b);
-		const double s2 = c.squaredNorm(), cs = a.dot(b);
-		if (s2 < 1e-4 && cs > 0) return (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0))) * c;
+		const Vec3   c  = e.cross(a);
+		const double s2 = c.squaredNorm(), cs = e.dot(a);
+		if (s2 < 1e-4 && cs > 0) {
+			const double f = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0));
+			return { f * c, f, 1.0 / 3.0 + s2 * (2.0 / 15.0 + s2 * (31.0 / 315.0)) };
+		}
 		const double s = std::sqrt(s2);
-		if (s < 1e-300) return Vec3::Zero(); // anti-parallel: undefined axis; cannot occur for a bonded element
-		return (std::atan2(s, cs) / s) * c;
+		if (s < 1e-300) return { Vec3::Zero(), 1, 1.0 / 3.0 }; // anti-parallel: undefined axis; cannot occur for a bonded element
+		const double alpha = std::atan2(s, cs), f = alpha / s;
+		return { f * c, f, (s - alpha * cs) / (s2 * s) };
 	}
 	// 2 atan(x / w) for w > 0; series below |x/w| = 1e-2 (error (x/w)^9/9 < 1e-18)
 	inline double twoAtan(double x, double w)
@@ -95,16 +105,37 @@ BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, co
 	k.L               = ch.L;
 	k.e               = ch.e;
 	const Quat Ri = oi * rest.Qi, Rj = oj * rest.Qj;
-	k.thetaI      = rotationBetween(k.e, xAxis(Ri));
-	k.thetaJ      = rotationBetween(k.e, xAxis(Rj));
-	// only the w and x components of D = conj(Ri) Rj are needed
+	k.aI          = xAxis(Ri);
+	k.aJ          = xAxis(Rj);
+	const Rot ri = rotationBetween(k.e, k.aI), rj = rotationBetween(k.e, k.aJ);
+	k.thetaI      = ri.theta;
+	k.thetaJ      = rj.theta;
+	k.fI          = ri.f;
+	k.hI          = ri.h;
+	k.fJ          = rj.f;
+	k.hJ          = rj.h;
+	// D = conj(Ri) Rj; the twist is 2 atan(Dx / Dw), the rotation of D about the element axis
 	double Dw = Ri.w() * Rj.w() + Ri.x() * Rj.x() + Ri.y() * Rj.y() + Ri.z() * Rj.z();
 	double Dx = Ri.w() * Rj.x() - Ri.x() * Rj.w() - Ri.y() * Rj.z() + Ri.z() * Rj.y();
+	double Dy = Ri.w() * Rj.y() - Ri.y() * Rj.w() - Ri.z() * Rj.x() + Ri.x() * Rj.z();
+	double Dz = Ri.w() * Rj.z() - Ri.z() * Rj.w() - Ri.x() * Rj.y() + Ri.y() * Rj.x();
 	if (Dw < 0) { // shortest representation
 		Dw = -Dw;
 		Dx = -Dx;
+		Dy = -Dy;
+		Dz = -Dz;
 	}
 	k.twist = twoAtan(Dx, Dw);
+	// its gradient: a rotation dphi of node i turns D into exp(-Ri^T dphi) D, of node j into
+	// D exp(Rj^T dphi) (body frames); d(2 atan(x/w)) = 2 (w dx - x dw) / (w^2 + x^2)
+	const double Q = Dw * Dw + Dx * Dx;
+	if (Q > 0) {
+		k.twistGradI = Ri * Vec3(-1, -(Dw * Dz + Dx * Dy) / Q, (Dw * Dy - Dx * Dz) / Q);
+		k.twistGradJ = Rj * Vec3(1, (Dx * Dy - Dw * Dz) / Q, (Dw * Dy + Dx * Dz) / Q);
+	} else { // a half turn about an axis normal to the element: the twist is undefined there
+		k.twistGradI = -k.aI;
+		k.twistGradJ = k.aJ;
+	}
 	return k;
 }
 
@@ -120,12 +151,22 @@ BeamForces beamForcesWithAxial(const BeamKinematics& k, const BeamRest& rest, co
 	f.plasticWork        = ax.plasticWork;
 	f.rupture            = ax.rupture;
 	const double kb      = s.EI / rest.L0, kt = s.GJ / rest.L0;
-	const Vec3   Mbi = -kb * (4 * k.thetaI + 2 * k.thetaJ), Mbj = -kb * (2 * k.thetaI + 4 * k.thetaJ);
-	const Vec3   V   = k.e.cross(Mbi + Mbj) / k.L;
+	// U = kb (2 thI.thI + 2 thI.thJ + 2 thJ.thJ) + kt tw^2 / 2; g = dU/dtheta at each end.
+	// theta = f (e x a): with c = e x a, d theta = f (de x a + e x da) - h c (a.de + e.da), so
+	// g.d theta = ve.de + va.da with ve = f (a x g) - h (g.c) a and va = f (g x e) - h (g.c) e.
+	// A rotation dphi of the node moves its axis by da = dphi x a: its moment is -a x va; a
+	// move of the nodes turns the chord by de = (I - e e^T)(dxj - dxi) / L. Small angles (f = 1,
+	// a = e, g normal to e): M = -g, Fj = -e x (gI + gJ) / L, the linear beam.
+	const Vec3 gI = kb * (4 * k.thetaI + 2 * k.thetaJ), gJ = kb * (2 * k.thetaI + 4 * k.thetaJ);
+	const Vec3 cI = k.e.cross(k.aI), cJ = k.e.cross(k.aJ);
+	const double gcI = gI.dot(cI), gcJ = gJ.dot(cJ);
+	const Vec3 vaI = k.fI * gI.cross(k.e) - k.hI * gcI * k.e, vaJ = k.fJ * gJ.cross(k.e) - k.hJ * gcJ * k.e;
+	const Vec3 ve  = k.fI * k.aI.cross(gI) - k.hI * gcI * k.aI + k.fJ * k.aJ.cross(gJ) - k.hJ * gcJ * k.aJ;
+	const Vec3 V   = -(ve - k.e.dot(ve) * k.e) / k.L;
 	f.Fj             = -f.N * k.e + V;
 	f.Fi             = -f.Fj;
-	f.Mi             = Mbi + kt * k.twist * k.e;
-	f.Mj             = Mbj - kt * k.twist * k.e;
+	f.Mi             = -k.aI.cross(vaI) - kt * k.twist * k.twistGradI;
+	f.Mj             = -k.aJ.cross(vaJ) - kt * k.twist * k.twistGradJ;
 	f.elasticEnergy  = ax.elasticEnergy
 	        + kb * (2 * k.thetaI.squaredNorm() + 2 * k.thetaI.dot(k.thetaJ) + 2 * k.thetaJ.squaredNorm()) + 0.5 * kt * k.twist * k.twist;
 	return f;

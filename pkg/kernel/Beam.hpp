@@ -78,6 +78,13 @@ struct BeamKinematics {
 	Vec3   thetaI;   ///< bending rotation at node i (perpendicular to e) [rad]
 	Vec3   thetaJ;   ///< bending rotation at node j [rad]
 	double twist;    ///< twist of j relative to i about e [rad]
+	// for the exact gradient (beamForcesWithAxial): the element axis at each node (a = x axis
+	// of the node's element frame), theta = f (e x a) with f = alpha / sin alpha, and
+	// h = f'(alpha) / sin alpha; the twist's gradient with respect to each node's rotation
+	// (global frame)
+	Vec3   aI, aJ;
+	double fI = 1, hI = 1.0 / 3, fJ = 1, hJ = 1.0 / 3;
+	Vec3   twistGradI, twistGradJ;
 };
 BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj, const BeamRest& rest);
 
