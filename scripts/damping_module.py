@@ -165,8 +165,7 @@ def main():
     ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"], rope=ids.get("rope", []))
     el = [e for e in O.engines if e.label == "flexElements"][0]
     # contacts found late (a missed or suppressed contact starts deep: its spring energy comes from nothing)
-    law = next(f for e in O.engines if hasattr(e, "lawDispatcher") for f in e.lawDispatcher.functors
-               if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack")
+    law = yf.contact_law()
     rows, erows = [], []
     v_prev, t_prev = Vector3(boulder.state.vel), O.time
     e_impact = 0.5 * mass * p.impact_speed() ** 2

@@ -98,6 +98,16 @@ def bond_forces(ids):
     return [O.bodies[i].shape.axialForce if O.bodies[i] is not None else None for i in ids]
 
 
+def contact_law():
+    """The yade-flex contact law of the current engines (Law2_FlexContactGeom_FrictPhys_CundallStrack),
+    e.g. to read its hand-over ledger (deepOnsets, deepOnsetEnergy, deepEndings, deepEndingEnergy)."""
+    for e in O.engines:
+        for f in (e.lawDispatcher.functors if hasattr(e, "lawDispatcher") else ()):
+            if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack":
+                return f
+    raise ValueError("no Law2_FlexContactGeom_FrictPhys_CundallStrack in O.engines (set them with yadeflex.engines())")
+
+
 def contacts_on(body_id, active_only=True):
     """Real contacts of a body; FlexContactGeom contacts that are inactive (handed over to
     a neighbour) are skipped unless active_only is False."""

@@ -219,11 +219,6 @@ def test_contact_is_not_suppressed_by_a_wire_bonded_to_the_partner(scene, delta)
     assert_rel(fz, kn * delta, 1e-6, "S pushed off P by kn x overlap")
 
 
-def _law():
-    return next(f for e in O.engines if hasattr(e, "lawDispatcher") for f in e.lawDispatcher.functors
-                if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack")
-
-
 def test_contact_starting_overlapped_is_counted_with_its_spring_energy(scene):
     # a sphere placed into a wire: its contact starts at the full overlap, 1/2 kn delta^2 from nothing
     r, R, delta = 0.005, 0.02, 2e-4
@@ -233,7 +228,7 @@ def test_contact_starting_overlapped_is_counted_with_its_spring_energy(scene):
     O.engines = yf.engines(gravity=(0, 0, 0))
     O.dt = 1e-8
     O.step()
-    law, (c,) = _law(), _active(s)
+    law, (c,) = yf.contact_law(), _active(s)
     assert law.deepOnsets == 1
     assert_rel(law.deepOnsetEnergy, 0.5 * c.phys.kn * delta ** 2, 1e-9, "onset energy")
     assert_rel(c.geom.onsetDepth, delta, 1e-9, "onset depth")
@@ -258,7 +253,7 @@ def test_contacts_reached_by_motion_start_within_one_step_and_hand_overs_cancel(
     O.step()
     while not _active(s):
         O.step()
-    law = _law()
+    law = yf.contact_law()
     assert (law.deepOnsets, law.deepEndings) == (0, 0)
     O.bodies[s].state.vel = Vector3(2 * v, 0, 0)  # now slide along the wire, across the node
     owners = []
