@@ -136,7 +136,9 @@ void FlexElementEngine::action()
 		b->state->pos    = 0.5 * (si->pos + sj->pos);
 		b->state->vel    = 0.5 * (si->vel + sj->vel);
 		if (energy) {
-			eElastic += f.elasticEnergy;
+			// a breaking element's stored energy goes to flexRupture (below), not here too: counted
+			// in both, the balance showed it twice for the one step of the rupture
+			if (!f.rupture) eElastic += f.elasticEnergy;
 			if (f.plasticWork != 0) {
 				ePlastic += f.plasticWork;
 				++nPlastic;
@@ -238,7 +240,7 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 		b->state->pos = (x[0] + x[1] + x[2]) / 3;
 		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
 		if (energy) {
-			eMemb += r.energy;
+			if (!r.rupture) eMemb += r.energy; // a breaking facet's energy goes to flexRupture (as the cylinders')
 			// work done BY the pressure, booked with the opposite sign like YADE's gravWork
 			if (f.pressure != 0) {
 				ePress += -fp.dot(s[0]->vel + s[1]->vel + s[2]->vel) * dt;
