@@ -70,7 +70,7 @@ def apply(name):
 
 def main():
     a = parse()
-    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0) if a.small else ModuleParams()
+    p = ModuleParams.small() if a.small else ModuleParams()
     ids, cache_file, cached = filled_module(p)
     bid = add_boulder(p, ids)
     O.engines = p.engines(p.damping)

@@ -56,7 +56,7 @@ def parse():
         ap.error(f"--min-dt-fraction must be in [0, 1), got {a.min_dt_fraction}")
     p = ModuleParams()
     if a.small:
-        p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+        p = ModuleParams.small()
     for f in dataclasses.fields(ModuleParams):
         v = getattr(a, f.name)
         if v is not None:

@@ -63,6 +63,10 @@ FILLS = {
 }
 
 
+# the reduced module: fast enough for tests and benchmarks (ModuleParams.small())
+SMALL = dict(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+
+
 @dataclasses.dataclass
 class ModuleParams:
     """Parameters of a damping-module impact (SI units)."""
@@ -92,6 +96,12 @@ class ModuleParams:
     n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
     module_gap: float = 0.02         # [m] clear gap between neighbouring modules
     rope: bool = None                # boundary rope (6x7 FC, 8 mm) around all modules at mid-height; default: with n_modules > 1
+
+    @classmethod
+    def small(cls, **kw):
+        """The reduced module (`scripts/run OUT --small`, the tests): 0.4 m x 0.3 m, 60-80 mm
+        grains, a 100 kg cube dropped 1 m; keyword arguments override."""
+        return cls(**dict(SMALL, **kw))
 
     def preset(self):
         if self.fill not in FILLS:
@@ -444,3 +454,21 @@ def add_boulder(params, ids, gap=0.005):
     cl.aspherical = False  # isotropic inertia (a solid cube): the spherical rotation update is exact
     cl.state.vel = Vector3(0, 0, -v0)
     return cid
+
+
+def impact_start(params, cache_dir=None, max_fall=0.5):
+    """The main job's impact up to the boulder's first contact: loads (or fills) the module,
+    adds the boulder and the impact engines, and steps until the boulder touches something (for
+    benchmarks and diagnostics that look at the impact itself). Returns (ids, boulder id, the
+    boulder's member body ids). Raises RuntimeError if no contact within max_fall [s]."""
+    ids, _, _ = filled_module(params, cache_dir=cache_dir)
+    bid = add_boulder(params, ids)
+    O.engines = params.engines(params.damping)
+    boulder = O.bodies[bid]
+    members = set(boulder.shape.members.keys()) if boulder.isClump else {bid}
+    t0 = O.time
+    while not any(i.isReal for m in members for i in O.interactions.withBody(m)):
+        if O.time - t0 > max_fall:
+            raise RuntimeError("the boulder never touched the module")
+        O.run(50, True)
+    return ids, bid, members

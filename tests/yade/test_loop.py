@@ -34,7 +34,7 @@ def _loop():
 def impact_state():
     """The reduced module a few hundred steps into its impact, saved in memory."""
     O.reset()
-    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+    p = ModuleParams.small()
     ids, _, _ = filled_module(p)
     bid = add_boulder(p, ids)
     O.engines = p.engines(0.0)

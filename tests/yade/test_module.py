@@ -100,7 +100,7 @@ def test_settled_fill_bears_on_the_lining(small_run, scene):
     from yade import O
     from yadeflex.module import ModuleParams, filled_module, fill_radii, FILL_TIMESTEP_SAFETY
     base, _, _ = small_run
-    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)  # --small
+    p = ModuleParams.small()  # --small
     ids, _, cached = filled_module(p, cache_dir=str(base / "cache"))
     assert cached
     O.engines = p.engines(p.settle_damping, FILL_TIMESTEP_SAFETY)
@@ -176,7 +176,7 @@ def test_unreadable_cache_is_filled_again(tmp_path, scene):
     import gzip
     from yade import O
     from yadeflex.module import ModuleParams, filled_module
-    p = ModuleParams(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+    p = ModuleParams.small()
     f = tmp_path / f"module-{p.fill_key()}.yade.gz"
     with gzip.open(f, "wb") as g:
         g.write(b"not a YADE scene")
