@@ -23,8 +23,10 @@
 // or the two normals are within 15 degrees (concave side of a nearly straight chain).
 // Distinct contacts on neighbours (a sphere on a net cell touching its four wires) all count.
 // Where two segments clamp to the same node the distances are bit-identical and the tie rule
-// picks one. When ownership moves from A to its neighbour B, B takes over A's shear force; A stays
-// one more step, inactive, so B reads stable data (deterministic, no data race).
+// picks one. A contact between two elements (a ring on the lining) is decided once per cluster
+// of element PAIRS (flexa::ownsPair: every pair's overlap computed the same way by all of them),
+// not side by side. When ownership moves from A to its neighbour B, B takes over A's shear
+// force; A stays one more step, inactive, so B reads stable data (deterministic, no data race).
 #pragma once
 #include "FlexPch.hpp"
 

@@ -294,36 +294,37 @@ namespace flexa {
 	/// changes while both sides overlap: the angle between two touched neighbours crossing 15
 	/// degrees.
 	constexpr Real kMergeCos = 0.96592582628906831; // cos(15 deg)
+	/// Whether the closest point `h` lies on what elements a and b share (every node of its
+	/// support belongs to both: a shared node, edge or vertex).
+	inline bool onShared(const Hit& h, const Element& a, const Element& b)
+	{
+		for (int k = 0; k < h.nSupport; ++k) {
+			bool inA = false, inB = false;
+			for (int i = 0; i < a.nNodes; ++i) inA |= a.nodes[i] == h.support[k];
+			for (int j = 0; j < b.nNodes; ++j) inB |= b.nodes[j] == h.support[k];
+			if (!(inA && inB)) return false;
+		}
+		return true;
+	}
 	constexpr int  kMaxCluster = 48;
 
 	/// Ownership of a contact by element `self` (body selfId) among the elements sharing its
 	/// nodes (see above). `hit` is self's contact and `n` its direction (from the element's
 	/// closest point towards the other body); hitOf(element, normal out) gives a neighbour's
 	/// contact the same way, with the same arithmetic as that neighbour's own functor.
-	/// A contact without a normal (the other body's point exactly on the element's axis or
-	/// plane: a wire pierced by a membrane, Eigen's normalized() then gives zero) is also
-	/// LINKED to a neighbour's whose closest point lies closer than the thinner element's
-	/// radius: one contact patch (without this rule each wire of a node pushed into a
-	/// membrane kept its own contact, measured 2026-11-23). Only there: applied to every
-	/// pair, the same distance rule also merged and split contacts of grains on mesh
-	/// wires and broke the main job's energy balance (residual 2.2% instead of 0.32%).
+	/// A contact without a normal (the probe's centre exactly on the element's axis or plane:
+	/// Eigen's normalized() then gives zero) is also LINKED to a neighbour's whose closest
+	/// point lies closer than the thinner element's radius: one contact patch. Only there:
+	/// applied to every pair, the same distance rule also merged and split contacts of grains
+	/// on mesh wires and broke the main job's energy balance (residual 2.2% instead of 0.32%).
 	/// Returns true if self carries its cluster's contact; the other members of the
 	/// cluster are then returned in `beaten` (at most 8 kept) for shear hand-over (on false,
 	/// `beaten` means nothing: the search stops at the first member that beats self).
-	///
-	/// `partner` (body partnerId) is the other side of the contact when it is an element
-	/// (nullptr for a sphere). A member that IS the partner, or shares a node with it, can
-	/// never carry this contact (bonded neighbours have none: the Ig2 functors return false
-	/// on them), so it links the cluster as any member does but never beats self. (When it
-	/// could, it suppressed the contact while no element carried it: a mesh wire next to a
-	/// ring, beaten by a wire bonded to that ring, sank 6 mm into it with no force, and the
-	/// contact then started at that depth with 1/2 kn d^2 = 0.9 kJ from nothing: the fast
-	/// small-module impacts of bench/STABILITY.md, finding 5.)
+	/// For contacts of a sphere (the probe) with an element; contacts between two elements are
+	/// decided per cluster of element pairs (ownsPair).
 	template <class HitOf>
-	inline bool ownsCluster(const Scene* scene, const Element& self, Body::id_t selfId, const Hit& hit, const Vector3r& n, HitOf hitOf, Body::id_t* beaten, int& nBeaten,
-	                        Body::id_t partnerId, const Element* partner)
+	inline bool ownsCluster(const Scene* scene, const Element& self, Body::id_t selfId, const Hit& hit, const Vector3r& n, HitOf hitOf, Body::id_t* beaten, int& nBeaten)
 	{
-		auto canCarry = [&](Body::id_t id, const Element& e) { return !partner || (id != partnerId && !shareNode(e, *partner)); };
 		nBeaten = 0;
 		struct Member {
 			Body::id_t id;
@@ -336,15 +337,6 @@ namespace flexa {
 		int        nCl = 0, nSeen = 0;
 		cl[nCl++]      = { selfId, self, hit, n };
 		seen[nSeen++]  = selfId;
-		auto onShared = [](const Hit& h, const Element& a, const Element& b) {
-			for (int k = 0; k < h.nSupport; ++k) {
-				bool inA = false, inB = false;
-				for (int i = 0; i < a.nNodes; ++i) inA |= a.nodes[i] == h.support[k];
-				for (int j = 0; j < b.nNodes; ++j) inB |= b.nodes[j] == h.support[k];
-				if (!(inA && inB)) return false;
-			}
-			return true;
-		};
 		for (int m = 0; m < nCl; ++m) { // breadth-first over linked neighbours
 			const Member cur = cl[m];
 			for (int k = 0; k < cur.e.nNodes; ++k) {
@@ -374,13 +366,12 @@ namespace flexa {
 						// (the loop below would return false on it; the callers read `beaten`
 						// only from an owner). Most pairs that overlap are losers, found here
 						// after a probe or two instead of the whole cluster.
-						if ((oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) && canCarry(other, oe)) return false;
+						if (oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) return false;
 					}
 				}
 			}
 		}
 		for (int m = 1; m < nCl; ++m) {
-			if (!canCarry(cl[m].id, cl[m].e)) continue;
 			if (cl[m].h.overlap > hit.overlap || (cl[m].h.overlap == hit.overlap && cl[m].id < selfId)) return false;
 			if (nBeaten < 8) beaten[nBeaten++] = cl[m].id;
 		}
@@ -388,9 +379,8 @@ namespace flexa {
 	}
 	/// Ownership test of element `self` for a probe sphere (P, R), e.g. a grain or the
 	/// closest point of a partner element, with closest point `hit` on self: every neighbour
-	/// is probed with the same sphere. partner, partnerId: see ownsCluster.
-	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten,
-	                 Body::id_t partnerId, const Element* partner)
+	/// is probed with the same sphere.
+	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
 	{
 		return ownsCluster(
 		        scene, self, selfId, hit, (P - hit.point).normalized(),
@@ -399,7 +389,170 @@ namespace flexa {
 			        on          = (P - h.point).normalized();
 			        return h;
 		        },
-		        beaten, nBeaten, partnerId, partner);
+		        beaten, nBeaten);
+	}
+	/// Contact of two elements x and y (x on side A, y on side B): the overlap, the closest
+	/// point on each with its support, and the direction n from x's point to y's (zero when
+	/// one pierces the other). Computed in ONE canonical order whoever asks (two cylinders:
+	/// the lower id first; a cylinder and a facet: the cylinder first), so that every
+	/// interaction of a cluster of pairs (ownsPair) sees bit-identical overlaps. Facet-facet
+	/// and non-elements: no contact (overlap -inf).
+	struct PairHit {
+		Hit      hx, hy;
+		Vector3r n       = Vector3r::Zero();
+		Real     overlap = -std::numeric_limits<Real>::infinity();
+	};
+	inline PairHit pairHit(const Scene* scene, Body::id_t idx, const Element& x, Body::id_t idy, const Element& y)
+	{
+		PairHit r;
+		if (!x.nNodes || !y.nNodes || (x.fac && y.fac)) return r;
+		const bool     swap = x.fac || (x.cyl && y.cyl && idy < idx);
+		const Element &a = swap ? y : x, &b = swap ? x : y;
+		const State*   sa[2] = { stateOf(scene, a.nodes[0]), stateOf(scene, a.nodes[1]) };
+		const State*   sb[3] = { nullptr, nullptr, nullptr };
+		for (int k = 0; k < b.nNodes; ++k)
+			if (!(sb[k] = stateOf(scene, b.nodes[k]))) return r;
+		if (!sa[0] || !sa[1]) return r;
+		const Real reach = a.radius + b.radius;
+		Hit        ha, hb;
+		if (b.cyl) {
+			if (flex::segmentsApart(sa[0]->pos, sa[1]->pos, sb[0]->pos, sb[1]->pos, reach)) return r;
+			const flex::SegmentSegment ss = flex::closestPointsSegments(sa[0]->pos, sa[1]->pos, sb[0]->pos, sb[1]->pos);
+			const Real                 ov = reach - (ss.p2 - ss.p1).norm();
+			ha                            = segmentHit(a, flex::PointSegment { ss.s, ss.p1 }, ov);
+			hb                            = segmentHit(b, flex::PointSegment { ss.t, ss.p2 }, ov);
+		} else {
+			if (flex::segmentTriangleApart(sa[0]->pos, sa[1]->pos, sb[0]->pos, sb[1]->pos, sb[2]->pos, reach)) return r;
+			const flex::SegmentTriangle st = flex::closestPointsSegmentTriangle(sa[0]->pos, sa[1]->pos, sb[0]->pos, sb[1]->pos, sb[2]->pos);
+			const Real                  ov = reach - (st.t.point - st.p1).norm();
+			ha                             = segmentHit(a, flex::PointSegment { st.s, st.p1 }, ov);
+			hb                             = triangleHit(b, st.t, ov);
+		}
+		r.overlap = ha.overlap;
+		r.hx      = swap ? hb : ha;
+		r.hy      = swap ? ha : hb;
+		r.n       = (r.hy.point - r.hx.point).normalized();
+		return r;
+	}
+	/// One contact decision per cluster of element-element pairs. Why: a probe-based test
+	/// (owns, each side probed with the other's closest point) judged the pair (S, F1) and the
+	/// pair (S, F2) of a ring segment S lying across the seam of two lining facets from
+	/// different probe points, so both could carry the contact at once, or hand it over with a
+	/// fresh overlap (the main job's hand-over ledger: +104 J net, most from ring-lining and
+	/// wire-lining pairs).
+	///
+	/// What: the pairs (a, b) that overlap form clusters. Two pairs that differ on one side,
+	/// (a, b) and (a', b) with a and a' sharing a node, are LINKED (one contact) when the
+	/// closest point of either on its A-side element lies on what a and a' share (a chain's
+	/// shared node, a facet's shared edge or vertex), or when their normals are within 15
+	/// degrees AND their contact points on b are closer than the thinner of a, a' plus b's
+	/// radius (the concave side of a slightly kinked chain: one patch), or when one has no
+	/// normal (a pierced element) and their points on a, a' are closer than the thinner
+	/// radius. The locality bound keeps apart what are distinct contacts: two mesh wires lying
+	/// on one lining facet at different places have parallel normals too (merging them broke
+	/// the main job's energy balance, 2026-11-23). Pairs of bonded elements have no contact
+	/// and are left out. Each cluster's contact is carried by its pair with the largest
+	/// overlap (ties: the lower pair of ids), every pair computing the same overlaps with
+	/// pairHit, so exactly one pair carries it.
+	/// Returns whether (idA, idB) carries its cluster's contact; the other pairs are then in
+	/// `beaten` (A-side id, B-side id; at most 8 kept) for the shear hand-over.
+	inline bool ownsPair(const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
+	{
+		nBeaten = 0;
+		struct Member {
+			Body::id_t ia, ib;
+			Element    a, b;
+			PairHit    h;
+		};
+		const PairHit self = pairHit(scene, idA, A, idB, B);
+		if (!(self.overlap > 0)) return false;
+		auto key  = [](Body::id_t p, Body::id_t q) { return std::make_pair(std::min(p, q), std::max(p, q)); };
+		auto beats = [&](const Member& m) {
+			return m.h.overlap > self.overlap || (m.h.overlap == self.overlap && key(m.ia, m.ib) < key(idA, idB));
+		};
+		// every pair met is evaluated once: its hit is kept, as member, overlapping candidate
+		// (not linked yet: it may link to a later member) or not touching
+		struct Met {
+			std::pair<Body::id_t, Body::id_t> pq;
+			int                               member; // index in cl, -1: candidate, -2: not touching
+			PairHit                           h;
+			Element                           ea, eb;
+		};
+		Member cl[kMaxCluster];
+		Met    met[4 * kMaxCluster];
+		int    nCl = 0, nMet = 0;
+		cl[nCl++] = { idA, idB, A, B, self };
+		met[nMet++] = { { idA, idB }, 0, self, A, B };
+		for (int m = 0; m < nCl; ++m) { // breadth-first over linked pairs
+			const Member cur = cl[m];
+			for (int side = 0; side < 2; ++side) {
+				const Element&   e       = side == 0 ? cur.a : cur.b; // the side that changes
+				const Element&   partner = side == 0 ? cur.b : cur.a;
+				const Body::id_t eId     = side == 0 ? cur.ia : cur.ib;
+				for (int k = 0; k < e.nNodes; ++k) {
+					const shared_ptr<Body>& nb = Body::byId(e.nodes[k], const_cast<Scene*>(scene));
+					if (!nb) continue;
+					const FlexNode* node = static_cast<const FlexNode*>(nb->shape.get());
+					for (int other : node->elements) {
+						if (other == eId) continue;
+						const std::pair<Body::id_t, Body::id_t> pq = side == 0 ? std::make_pair((Body::id_t)other, cur.ib) : std::make_pair(cur.ia, (Body::id_t)other);
+						int                                     at = -1;
+						for (int i = 0; i < nMet && at < 0; ++i)
+							if (met[i].pq == pq) at = i;
+						if (at >= 0 && met[at].member != -1) continue; // a member already, or not touching
+						if (at < 0) {
+							if (nMet == 4 * kMaxCluster) continue; // (full: a cluster this large does not occur)
+							at           = nMet++;
+							met[at].pq   = pq;
+							const Element oe = elementOf(scene, other);
+							met[at].ea       = side == 0 ? oe : cur.a;
+							met[at].eb       = side == 0 ? cur.b : oe;
+							met[at].h        = PairHit();
+							if (oe.nNodes && !shareNode(oe, partner)) // (bonded to the partner: no contact)
+								met[at].h = side == 0 ? pairHit(scene, other, oe, cur.ib, cur.b) : pairHit(scene, cur.ia, cur.a, other, oe);
+							met[at].member = met[at].h.overlap > 0 ? -1 : -2;
+							if (met[at].member == -2) continue; // not touching: never part of a cluster
+						}
+						const Element& oe = side == 0 ? met[at].ea : met[at].eb;
+						const PairHit& oh = met[at].h;
+						// the points on the side that changes, and on the common partner
+						const Hit& hc    = side == 0 ? cur.h.hx : cur.h.hy;
+						const Hit& ho    = side == 0 ? oh.hx : oh.hy;
+						const Hit& pc    = side == 0 ? cur.h.hy : cur.h.hx;
+						const Hit& po    = side == 0 ? oh.hy : oh.hx;
+						const Real thin  = std::min(e.radius, oe.radius), patch = thin + partner.radius;
+						const bool linked = onShared(hc, e, oe) || onShared(ho, e, oe)
+						        || (cur.h.n.dot(oh.n) > kMergeCos && (pc.point - po.point).squaredNorm() < patch * patch)
+						        || ((cur.h.n.squaredNorm() == 0 || oh.n.squaredNorm() == 0) && (hc.point - ho.point).squaredNorm() < thin * thin);
+						if (!linked || nCl == kMaxCluster) continue; // may still join through another member
+						met[at].member = nCl;
+						cl[nCl]        = { pq.first, pq.second, met[at].ea, met[at].eb, oh };
+						if (beats(cl[nCl])) return false; // settled: self does not carry it
+						++nCl;
+					}
+				}
+			}
+		}
+		for (int m = 1; m < nCl && nBeaten < 8; ++m)
+			beaten[nBeaten++] = { cl[m].ia, cl[m].ib };
+		return true;
+	}
+	/// Shear force (on body 2 of I, whose body 1 is id1) that one of the `beaten` pairs (A-side
+	/// id, B-side id; see ownsPair) carried at the previous step; aIs1: whether I's body 1 is
+	/// its A-side element.
+	inline bool takeOverPairShear(Scene* scene, bool aIs1, const std::pair<Body::id_t, Body::id_t>* beaten, int nBeaten, Vector3r& shear)
+	{
+		for (int k = 0; k < nBeaten; ++k) {
+			const shared_ptr<Interaction> J = scene->interactions->find(beaten[k].first, beaten[k].second);
+			if (!J || !J->geom || !J->phys) continue;
+			const FlexContactGeom* jg = dynamic_cast<const FlexContactGeom*>(J->geom.get());
+			const FrictPhys*       jp = dynamic_cast<const FrictPhys*>(J->phys.get());
+			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
+			const bool same = (J->getId1() == beaten[k].first) == aIs1;
+			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
+			return true;
+		}
+		return false;
 	}
 	/// Shear force (on body 2 of I) that interaction between `otherBody` and one of the
 	/// `beaten` neighbours carried at the previous step, expressed for an interaction whose

@@ -24,7 +24,14 @@ namespace {
 	}
 
 	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
-	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherOf1, const Body::id_t* beaten1, int nb1, Body::id_t otherOf2, const Body::id_t* beaten2, int nb2)
+	// (element-element contacts: the pairs of its cluster, A-side element first, and whether I's
+	// body 1 is the A side; see flexa::ownsPair)
+	struct PairsBeaten {
+		const std::pair<Body::id_t, Body::id_t>* p = nullptr;
+		int                                      n = 0;
+		bool                                     aIs1 = true;
+	};
+	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherOf1, const Body::id_t* beaten1, int nb1, Body::id_t otherOf2, const Body::id_t* beaten2, int nb2, const PairsBeaten& pairs = PairsBeaten())
 	{
 		const bool wasActive = g.lastActiveIter == scene->iter - 1;
 		g.active             = own;
@@ -36,7 +43,8 @@ namespace {
 			// last step, or starts from zero (separation ends the shear history; never reuse a
 			// stale spring, which would bring back energy that was no longer booked)
 			Vector3r sh = Vector3r::Zero();
-			if (!(nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh)))
+			if (pairs.n) flexa::takeOverPairShear(scene, pairs.aIs1, pairs.p, pairs.n, sh);
+			else if (!(nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh)))
 				if (nb2) flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh);
 			g.handover      = true;
 			g.handoverShear = sh;
@@ -68,7 +76,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	// `overlap` is bit-identical to what a neighbour's test computes for this element (same
 	// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
 	const flexa::Element self = flexa::elementOf(&cyl);
-	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb, I->getId1(), nullptr);
+	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -117,12 +125,10 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	const flex::SegmentSegment ss      = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
 	const Real                 overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
 	if (isNew && overlap <= 0 && !force) return false;
-	Body::id_t beaten1[8], beaten2[8];
-	int        nb1 = 0, nb2 = 0;
-	// each side tests its own neighbours with the other side's closest point as a probe
-	const flexa::Element e1 = flexa::elementOf(&c1), e2 = flexa::elementOf(&c2);
-	const bool           own = overlap > 0 && flexa::owns(scene, e1, I->getId1(), ss.p2, c2.radius, flexa::probe(scene, e1, ss.p2, c2.radius), beaten1, nb1, I->getId2(), &e2)
-	        && flexa::owns(scene, e2, I->getId2(), ss.p1, c1.radius, flexa::probe(scene, e2, ss.p1, c1.radius), beaten2, nb2, I->getId1(), &e1);
+	// one decision per cluster of element pairs (flexa::ownsPair)
+	std::pair<Body::id_t, Body::id_t> beaten[8];
+	PairsBeaten                       pairs { beaten, 0, true };
+	const bool own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), flexa::elementOf(&c1), I->getId2(), flexa::elementOf(&c2), beaten, pairs.n);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -140,7 +146,7 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId2(), beaten1, nb1, I->getId1(), beaten2, nb2);
+	finishGeom(scene, g, own, I, -1, nullptr, 0, -1, nullptr, 0, pairs);
 	return true;
 }
 
@@ -204,7 +210,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 	Body::id_t           beaten[8];
 	int                  nb   = 0;
 	const flexa::Element self = flexa::elementOf(&fa);
-	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb, I->getId1(), nullptr);
+	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -252,33 +258,11 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	const flex::SegmentTriangle st      = flex::closestPointsSegmentTriangle(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2]);
 	const Real                  overlap = c.radius + fa.radius - (st.p1 - st.t.point).norm();
 	if (isNew && overlap <= 0 && !force) return false;
-	Body::id_t beaten1[8], beaten2[8];
-	int        nb1 = 0, nb2 = 0;
-	// Each side tests its own neighbours with the other side's closest point as a probe. When
-	// the facet pierces the wire (closest points equal: a mesh node pushed into the lining),
-	// that probe lies on the wire's axis and every wire of the node would win its own
-	// comparison, all counting (measured 2026-11-23): the wire side then compares its
-	// neighbours' own contacts with this facet instead (the same closest-point call as their
-	// functors make, so that all pierced wires see the same overlaps and one owns). Only there:
-	// elsewhere two wires touching one flat facet at different points have parallel normals
-	// and would merge into one contact (tried on every contact: the main job's energy
-	// residual went from 0.32% to 2.1%).
-	const bool pierced = (st.t.point - st.p1).squaredNorm() == 0;
-	auto       wireHit = [&](const flexa::Element& oe, Vector3r& on) {
-                const State *o0 = oe.cyl ? flexa::stateOf(scene, oe.nodes[0]) : nullptr, *o1 = oe.cyl ? flexa::stateOf(scene, oe.nodes[1]) : nullptr;
-                if (!o0 || !o1) { // not a wire (a facet of the node, say), or a node gone: probe
-                        const flexa::Hit h = flexa::probe(scene, oe, st.t.point, fa.radius);
-                        on                 = (st.t.point - h.point).normalized();
-                        return h;
-                }
-                const flex::SegmentTriangle so = flex::closestPointsSegmentTriangle(o0->pos, o1->pos, fn.x[0], fn.x[1], fn.x[2]);
-                on                             = (so.t.point - so.p1).normalized();
-                return flexa::segmentHit(oe, flex::PointSegment { so.s, so.p1 }, oe.radius + fa.radius - (so.p1 - so.t.point).norm());
-	};
-	const bool own = overlap > 0
-	        && (pierced ? flexa::ownsCluster(scene, ec, I->getId1(), flexa::segmentHit(ec, flex::PointSegment { st.s, st.p1 }, overlap), Vector3r::Zero(), wireHit, beaten1, nb1, I->getId2(), &ef)
-	                    : flexa::owns(scene, ec, I->getId1(), st.t.point, fa.radius, flexa::probe(scene, ec, st.t.point, fa.radius), beaten1, nb1, I->getId2(), &ef))
-	        && flexa::owns(scene, ef, I->getId2(), st.p1, c.radius, flexa::probe(scene, ef, st.p1, c.radius), beaten2, nb2, I->getId1(), &ec);
+	// one decision per cluster of element pairs (flexa::ownsPair; it also settles a facet
+	// piercing a wire at a mesh node, where every wire of the node overlaps it)
+	std::pair<Body::id_t, Body::id_t> beaten[8];
+	PairsBeaten                       pairs { beaten, 0, true };
+	const bool                        own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), ec, I->getId2(), ef, beaten, pairs.n);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -299,7 +283,7 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId2(), beaten1, nb1, I->getId1(), beaten2, nb2);
+	finishGeom(scene, g, own, I, -1, nullptr, 0, -1, nullptr, 0, pairs);
 	return true;
 }
 

@@ -290,6 +290,56 @@ def test_wire_on_membrane_one_contact(scene):
         assert abs(i.geom.normal[2]) > 1 - 1e-12
 
 
+@pytest.mark.parametrize("fold_deg", [4.0, 12.0, 30.0])
+def test_segment_touching_a_convex_fold_one_contact_analytic_force(scene, fold_deg):
+    """A straight bar (a ring segment) touching a convex fold of two facets, at random places
+    (either face near the ridge, or the ridge itself with a normal anywhere in its cone) and in
+    random directions tangent to the fold there, overlapping by DELTA at one point: the bar's
+    distance to a convex body is convex along it, so it touches in ONE patch, with the overlap
+    DELTA, and carries one contact, with the force kn DELTA along the normal. Each (bar, facet)
+    pair used to judge its neighbours by probing them from its own closest point, so (bar, F1)
+    and (bar, F2) both carried the contact where their closest points on the bar differ (a bar
+    lying on one face and crossing the ridge): twice the force (flexa::ownsPair)."""
+    rng = random.Random(20261201 + int(fold_deg))
+    s_, c_ = math.sin(math.radians(fold_deg)), math.cos(math.radians(fold_deg))
+    n_plus, n_minus = Vector3(s_, 0, c_), Vector3(-s_, 0, c_)  # outward normals of the +x and -x facets
+    rc = 0.005
+    E_C = 2e11
+    k1, k2 = E_C * rc, E_F * RF
+    kn = 2 * k1 * k2 / (k1 + k2)
+    bad = []
+    for trial in range(40):
+        O.reset()
+        pts, tris = _roof(fold_deg)
+        _fixed_mesh(pts, tris)
+        y = rng.uniform(0.4, 0.6)
+        where = rng.choice(["ridge", "plus", "minus"])
+        if where == "ridge":
+            q, w = Vector3(0, y, 0), rng.random()
+            n = (w * n_plus + (1 - w) * n_minus).normalized()
+        else:
+            sign = 1 if where == "plus" else -1
+            d = rng.uniform(0.001, 0.05)
+            q = Vector3(sign * d * c_, y, -d * s_)
+            n = n_plus if sign > 0 else n_minus
+        a = rng.uniform(0, 2 * math.pi)  # a direction tangent to the fold at q
+        e1 = n.cross(Vector3(0, 1, 0)).normalized()
+        t = math.cos(a) * e1 + math.sin(a) * n.cross(e1)
+        p = q + (rc + RF - DELTA) * n
+        u = rng.uniform(0.1, 0.9)  # where along the bar it touches
+        L = 0.08
+        steel = yf.steel(friction_deg=0.0, young=E_C)
+        nodes, (bar,) = yf.chain([tuple(p - u * L * t), tuple(p + (1 - u) * L * t)], rc, steel, segments=1, fixed=[0, 1])
+        O.engines = engines(gravity=(0, 0, 0))
+        O.dt = 1e-8
+        O.step()
+        act = [i for i in O.interactions.withBody(bar) if i.isReal and i.geom.active]
+        F = O.forces.f(nodes[0]) + O.forces.f(nodes[1])
+        if len(act) != 1 or (F - n * (kn * DELTA)).norm() > 1e-6 * kn * DELTA:
+            bad.append((trial, where, len(act), [i.geom.penetrationDepth for i in act], F))
+    assert not bad, bad
+
+
 def test_wire_node_pushed_into_membrane_one_contact(scene):
     """A mesh node where three wires meet, pushed 1 um through a flat membrane's midplane (as a
     fill can press a mesh node into the lining): all three wires pierce the facet within 1e-4
