@@ -426,7 +426,14 @@ namespace flexa {
 			const flex::SegmentTriangle st = flex::closestPointsSegmentTriangle(sa[0]->pos, sa[1]->pos, sb[0]->pos, sb[1]->pos, sb[2]->pos);
 			const Real                  ov = reach - (st.t.point - st.p1).norm();
 			ha                             = segmentHit(a, flex::PointSegment { st.s, st.p1 }, ov);
-			hb                             = triangleHit(b, st.t, ov);
+			// support from the weights: a segment parallel to the facet over its face gets the
+			// face's support (7) also where its stretch ends on an edge (a wire's node above a
+			// seam), with that edge's weights and a zero (round-off) for the third node
+			flex::PointTriangle t = st.t;
+			t.support             = 0;
+			for (int k = 0; k < 3; ++k)
+				if (t.w[k] > 1e-12) t.support |= 1u << k;
+			hb = triangleHit(b, t, ov);
 		}
 		r.overlap = ha.overlap;
 		r.hx      = swap ? hb : ha;
@@ -436,24 +443,31 @@ namespace flexa {
 	}
 	/// One contact decision per cluster of element-element pairs. Why: a probe-based test
 	/// (owns, each side probed with the other's closest point) judged the pair (S, F1) and the
-	/// pair (S, F2) of a ring segment S lying across the seam of two lining facets from
-	/// different probe points, so both could carry the contact at once, or hand it over with a
-	/// fresh overlap (the main job's hand-over ledger: +104 J net, most from ring-lining and
-	/// wire-lining pairs).
+	/// pair (S, F2) of a bar S on a convex fold of two facets from different probe points, so
+	/// both could carry the contact at once (twice the force).
 	///
-	/// What: the pairs (a, b) that overlap form clusters. Two pairs that differ on one side,
-	/// (a, b) and (a', b) with a and a' sharing a node, are LINKED (one contact) when the
-	/// closest point of either on its A-side element lies on what a and a' share (a chain's
-	/// shared node, a facet's shared edge or vertex), or when their normals are within 15
-	/// degrees AND their contact points on b are closer than the thinner of a, a' plus b's
-	/// radius (the concave side of a slightly kinked chain: one patch), or when one has no
-	/// normal (a pierced element) and their points on a, a' are closer than the thinner
-	/// radius. The locality bound keeps apart what are distinct contacts: two mesh wires lying
-	/// on one lining facet at different places have parallel normals too (merging them broke
-	/// the main job's energy balance, 2026-11-23). Pairs of bonded elements have no contact
-	/// and are left out. Each cluster's contact is carried by its pair with the largest
-	/// overlap (ties: the lower pair of ids), every pair computing the same overlaps with
-	/// pairHit, so exactly one pair carries it.
+	/// What: the pairs (a, b) that overlap form clusters of LINKED pairs (one contact). Two
+	/// pairs that differ on one side, (a, b) and (a', b) with a and a' sharing a node, are
+	/// linked when their contact points on the common element b are closer than the thinner of
+	/// a, a' plus b's radius AND either closest point on a, a' lies on what they share (a
+	/// chain's shared node, a facet's shared edge or vertex) or their normals are within 15
+	/// degrees; or when one has no normal (a pierced element) and their points on a, a' are
+	/// closer than the thinner radius. Two pairs that differ on both sides, (a, b) and
+	/// (a', b'), where a' holds the support of a's closest point and b' that of b's (a wire's
+	/// node above the seam of two facets), are linked when their points are that close on both
+	/// sides and their normals within 15 degrees. Pairs of bonded elements have no contact.
+	/// Each cluster's contact is carried by its pair with the largest overlap (ties: the lower
+	/// pair of ids), every pair computing the same overlaps with pairHit, so exactly one pair
+	/// carries it.
+	///
+	/// The locality bound on the common element keeps apart what are distinct contacts. A bar
+	/// lying along a membrane touches several facets at points far apart on the bar (a line
+	/// contact, one closest point per pair): linked through the facets' shared edge alone, only
+	/// the deepest pushed and the rest of the bar sank in with no force until the link broke
+	/// and that contact started at its full depth (the main job's ring and wire pairs on the
+	/// lining: +12.6 J net from hand-overs in the first 2,500 impact steps, -0.3 J with the
+	/// bound; bench/handover_events.py). Two wires lying on one facet at different places have
+	/// parallel normals too: merging them broke the main job's energy balance (2026-11-23).
 	/// Returns whether (idA, idB) carries its cluster's contact; the other pairs are then in
 	/// `beaten` (A-side id, B-side id; at most 8 kept) for the shear hand-over.
 	inline bool ownsPair(const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
@@ -483,54 +497,76 @@ namespace flexa {
 		int    nCl = 0, nMet = 0;
 		cl[nCl++] = { idA, idB, A, B, self };
 		met[nMet++] = { { idA, idB }, 0, self, A, B };
+		// a pair met from a member: evaluated once, then added if `link` says it is the same
+		// contact; returns true if it beats self (self then does not carry the contact)
+		auto visit = [&](const Member& cur, Body::id_t ia2, Body::id_t ib2, auto link) {
+			const std::pair<Body::id_t, Body::id_t> pq { ia2, ib2 };
+			int                                     at = -1;
+			for (int i = 0; i < nMet && at < 0; ++i)
+				if (met[i].pq == pq) at = i;
+			if (at >= 0 && met[at].member != -1) return false; // a member already, or not touching
+			if (at < 0) {
+				if (nMet == 4 * kMaxCluster) return false; // (full: a cluster this large does not occur)
+				at              = nMet++;
+				Met& x          = met[at];
+				x.pq            = pq;
+				x.ea            = ia2 == cur.ia ? cur.a : elementOf(scene, ia2);
+				x.eb            = ib2 == cur.ib ? cur.b : elementOf(scene, ib2);
+				x.h             = PairHit();
+				if (x.ea.nNodes && x.eb.nNodes && !shareNode(x.ea, x.eb)) x.h = pairHit(scene, ia2, x.ea, ib2, x.eb); // (bonded: no contact)
+				x.member = x.h.overlap > 0 ? -1 : -2;
+				if (x.member == -2) return false; // not touching: never part of a cluster
+			}
+			if (!link(met[at]) || nCl == kMaxCluster) return false; // may still join through another member
+			met[at].member = nCl;
+			cl[nCl]        = { ia2, ib2, met[at].ea, met[at].eb, met[at].h };
+			return beats(cl[nCl++]);
+		};
+		auto elementsOf = [&](Body::id_t nodeId) -> const std::vector<int>* {
+			const shared_ptr<Body>& nb = Body::byId(nodeId, const_cast<Scene*>(scene));
+			return nb ? &static_cast<const FlexNode*>(nb->shape.get())->elements : nullptr;
+		};
+		auto holds = [](const Element& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
 		for (int m = 0; m < nCl; ++m) { // breadth-first over linked pairs
 			const Member cur = cl[m];
+			// one element changes: (a', b) or (a, b')
 			for (int side = 0; side < 2; ++side) {
-				const Element&   e       = side == 0 ? cur.a : cur.b; // the side that changes
+				const Element&   e       = side == 0 ? cur.a : cur.b;
 				const Element&   partner = side == 0 ? cur.b : cur.a;
 				const Body::id_t eId     = side == 0 ? cur.ia : cur.ib;
-				for (int k = 0; k < e.nNodes; ++k) {
-					const shared_ptr<Body>& nb = Body::byId(e.nodes[k], const_cast<Scene*>(scene));
-					if (!nb) continue;
-					const FlexNode* node = static_cast<const FlexNode*>(nb->shape.get());
-					for (int other : node->elements) {
-						if (other == eId) continue;
-						const std::pair<Body::id_t, Body::id_t> pq = side == 0 ? std::make_pair((Body::id_t)other, cur.ib) : std::make_pair(cur.ia, (Body::id_t)other);
-						int                                     at = -1;
-						for (int i = 0; i < nMet && at < 0; ++i)
-							if (met[i].pq == pq) at = i;
-						if (at >= 0 && met[at].member != -1) continue; // a member already, or not touching
-						if (at < 0) {
-							if (nMet == 4 * kMaxCluster) continue; // (full: a cluster this large does not occur)
-							at           = nMet++;
-							met[at].pq   = pq;
-							const Element oe = elementOf(scene, other);
-							met[at].ea       = side == 0 ? oe : cur.a;
-							met[at].eb       = side == 0 ? cur.b : oe;
-							met[at].h        = PairHit();
-							if (oe.nNodes && !shareNode(oe, partner)) // (bonded to the partner: no contact)
-								met[at].h = side == 0 ? pairHit(scene, other, oe, cur.ib, cur.b) : pairHit(scene, cur.ia, cur.a, other, oe);
-							met[at].member = met[at].h.overlap > 0 ? -1 : -2;
-							if (met[at].member == -2) continue; // not touching: never part of a cluster
-						}
-						const Element& oe = side == 0 ? met[at].ea : met[at].eb;
-						const PairHit& oh = met[at].h;
-						// the points on the side that changes, and on the common partner
-						const Hit& hc    = side == 0 ? cur.h.hx : cur.h.hy;
-						const Hit& ho    = side == 0 ? oh.hx : oh.hy;
-						const Hit& pc    = side == 0 ? cur.h.hy : cur.h.hx;
-						const Hit& po    = side == 0 ? oh.hy : oh.hx;
-						const Real thin  = std::min(e.radius, oe.radius), patch = thin + partner.radius;
-						const bool linked = onShared(hc, e, oe) || onShared(ho, e, oe)
-						        || (cur.h.n.dot(oh.n) > kMergeCos && (pc.point - po.point).squaredNorm() < patch * patch)
-						        || ((cur.h.n.squaredNorm() == 0 || oh.n.squaredNorm() == 0) && (hc.point - ho.point).squaredNorm() < thin * thin);
-						if (!linked || nCl == kMaxCluster) continue; // may still join through another member
-						met[at].member = nCl;
-						cl[nCl]        = { pq.first, pq.second, met[at].ea, met[at].eb, oh };
-						if (beats(cl[nCl])) return false; // settled: self does not carry it
-						++nCl;
+				auto             link    = [&](const Met& x) {
+                                        const Element& oe = side == 0 ? x.ea : x.eb;
+                                        const Hit &hc = side == 0 ? cur.h.hx : cur.h.hy, &ho = side == 0 ? x.h.hx : x.h.hy; // on the elements that change
+                                        const Hit &pc = side == 0 ? cur.h.hy : cur.h.hx, &po = side == 0 ? x.h.hy : x.h.hx; // on the common partner
+                                        const Real thin = std::min(e.radius, oe.radius), patch = thin + partner.radius;
+                                        return ((pc.point - po.point).squaredNorm() < patch * patch && (onShared(hc, e, oe) || onShared(ho, e, oe) || cur.h.n.dot(x.h.n) > kMergeCos))
+                                                || ((cur.h.n.squaredNorm() == 0 || x.h.n.squaredNorm() == 0) && (hc.point - ho.point).squaredNorm() < thin * thin);
+				};
+				for (int k = 0; k < e.nNodes; ++k)
+					if (const std::vector<int>* els = elementsOf(e.nodes[k]))
+						for (int other : *els)
+							if (other != eId && visit(cur, side == 0 ? other : cur.ia, side == 0 ? cur.ib : other, link)) return false;
+			}
+			// both change, where the contact sits on what each element shares with a neighbour
+			// (a wire's node above a seam of two facets: (wire 1, facet 2) and (wire 2, facet 1)
+			// touch at the same point)
+			const Hit &hx = cur.h.hx, &hy = cur.h.hy;
+			if (hx.nSupport < cur.a.nNodes && hy.nSupport < cur.b.nNodes) {
+				auto link = [&](const Met& x) {
+					const Real reach = std::min(cur.a.radius, x.ea.radius) + std::min(cur.b.radius, x.eb.radius);
+					return (hx.point - x.h.hx.point).squaredNorm() < reach * reach && (hy.point - x.h.hy.point).squaredNorm() < reach * reach
+					        && (cur.h.n.dot(x.h.n) > kMergeCos || cur.h.n.squaredNorm() == 0 || x.h.n.squaredNorm() == 0);
+				};
+				const std::vector<int>* as = elementsOf(hx.support[0]);
+				const std::vector<int>* bs = elementsOf(hy.support[0]);
+				if (as && bs)
+					for (int a2 : *as) {
+						if (a2 == cur.ia) continue;
+						const Element ea2 = elementOf(scene, a2);
+						if (!holds(ea2, hx)) continue;
+						for (int b2 : *bs)
+							if (b2 != cur.ib && holds(elementOf(scene, b2), hy) && visit(cur, a2, b2, link)) return false;
 					}
-				}
 			}
 		}
 		for (int m = 1; m < nCl && nBeaten < 8; ++m)
