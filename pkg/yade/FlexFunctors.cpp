@@ -24,14 +24,11 @@ namespace {
 	}
 
 	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
-	// (element-element contacts: the pairs of its cluster, A-side element first, and whether I's
-	// body 1 is the A side; see flexa::ownsPair)
-	struct PairsBeaten {
-		const std::pair<Body::id_t, Body::id_t>* p = nullptr;
-		int                                      n = 0;
-		bool                                     aIs1 = true;
-	};
-	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherOf1, const Body::id_t* beaten1, int nb1, Body::id_t otherOf2, const Body::id_t* beaten2, int nb2, const PairsBeaten& pairs = PairsBeaten())
+	// Sphere contacts: the elements beaten in the sphere's cluster (their contacts with
+	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
+	// flexa::ownsPair).
+	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
+	                const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
 	{
 		const bool wasActive = g.lastActiveIter == scene->iter - 1;
 		g.active             = own;
@@ -43,9 +40,8 @@ namespace {
 			// last step, or starts from zero (separation ends the shear history; never reuse a
 			// stale spring, which would bring back energy that was no longer booked)
 			Vector3r sh = Vector3r::Zero();
-			if (pairs.n) flexa::takeOverPairShear(scene, pairs.aIs1, pairs.p, pairs.n, sh);
-			else if (!(nb1 && flexa::takeOverShear(scene, otherOf1, I->getId1(), beaten1, nb1, sh)))
-				if (nb2) flexa::takeOverShear(scene, otherOf2, I->getId1(), beaten2, nb2, sh);
+			if (nPairs) flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
+			else if (nb) flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
 			g.handover      = true;
 			g.handoverShear = sh;
 			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
@@ -94,7 +90,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - P);
 	const Vector3r v2  = flex::segmentPointVelocity(ps.u, ps.point, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId1(), beaten, nb, -1, nullptr, 0);
+	finishGeom(scene, g, own, I, I->getId1(), beaten, nb);
 	return true;
 }
 
@@ -127,8 +123,8 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	if (isNew && overlap <= 0 && !force) return false;
 	// one decision per cluster of element pairs (flexa::ownsPair)
 	std::pair<Body::id_t, Body::id_t> beaten[8];
-	PairsBeaten                       pairs { beaten, 0, true };
-	const bool own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), flexa::elementOf(&c1), I->getId2(), flexa::elementOf(&c2), beaten, pairs.n);
+	int                               nPairs = 0;
+	const bool own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), flexa::elementOf(&c1), I->getId2(), flexa::elementOf(&c2), beaten, nPairs);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -146,7 +142,7 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, -1, nullptr, 0, -1, nullptr, 0, pairs);
+	finishGeom(scene, g, own, I, -1, nullptr, 0, beaten, nPairs);
 	return true;
 }
 
@@ -229,7 +225,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 	const Vector3r v1   = st1.vel + st1.angVel.cross(g.contactPoint - P);
 	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, flex::cappedFacetOffset(fn.x, g.contactPoint - pt.point));
 	g.relVel            = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId1(), beaten, nb, -1, nullptr, 0);
+	finishGeom(scene, g, own, I, I->getId1(), beaten, nb);
 	return true;
 }
 
@@ -261,8 +257,8 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	// one decision per cluster of element pairs (flexa::ownsPair; it also settles a facet
 	// piercing a wire at a mesh node, where every wire of the node overlaps it)
 	std::pair<Body::id_t, Body::id_t> beaten[8];
-	PairsBeaten                       pairs { beaten, 0, true };
-	const bool                        own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), ec, I->getId2(), ef, beaten, pairs.n);
+	int                               nPairs = 0;
+	const bool                        own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), ec, I->getId2(), ef, beaten, nPairs);
 	if (isNew && !own) return false;
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
 	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
@@ -283,7 +279,7 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, -1, nullptr, 0, -1, nullptr, 0, pairs);
+	finishGeom(scene, g, own, I, -1, nullptr, 0, beaten, nPairs);
 	return true;
 }
 
@@ -320,7 +316,7 @@ bool Ig2_Sphere_Sphere_FlexContactGeom::go(
 	const Vector3r v2  = st2.vel + st2.angVel.cross(g.contactPoint - x2);
 	g.relVel           = v2 - v1;
 	// no element: the contact is always its own owner (separation ends it, see finishGeom)
-	finishGeom(scene, g, overlap > 0, I, -1, nullptr, 0, -1, nullptr, 0);
+	finishGeom(scene, g, overlap > 0, I, -1, nullptr, 0);
 	return true;
 }
 
