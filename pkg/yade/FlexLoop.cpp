@@ -60,6 +60,30 @@ namespace {
 		}
 	};
 
+	// Whether a pair is left out by FlexInteractionLoop.quickReject: no contact yet, the
+	// sphere-sphere functor, two plain spheres that are apart. The functor returns false for it
+	// first thing (R1 + R2 - |x2 - x1| <= 0 for a new contact), changing nothing; the test here
+	// asks for more, |x2 - x1|^2 > (R1 + R2)^2 (1 + 1e-12), so that round-off can never make the
+	// two disagree (the pairs in between go to the functor).
+	struct Apart {
+		bool                                      valid = false;
+		const std::vector<const IGeomFunctor*>*   readers; // the sphere-sphere functors
+		const FlexInteractionLoop::SpherePoint*   p;
+		long                                      n;
+		bool                                      operator()(const Interaction& I) const
+		{
+			if (!valid || I.geom) return false;
+			const IGeomFunctor* f = I.functorCache.geom.get();
+			if (!f || std::find(readers->begin(), readers->end(), f) == readers->end()) return false;
+			const Body::id_t i1 = I.getId1(), i2 = I.getId2();
+			if (i1 < 0 || i2 < 0 || i1 >= n || i2 >= n) return false;
+			const FlexInteractionLoop::SpherePoint &a = p[i1], &b = p[i2];
+			if (a.r < 0 || b.r < 0) return false;
+			const Real dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z, s = a.r + b.r;
+			return dx * dx + dy * dy + dz * dz > s * s * (1 + 1e-12);
+		}
+	};
+
 	inline void fetchStates(const Interaction* I, const Bodies& b)
 	{
 		for (Body::id_t id : { I->getId1(), I->getId2() })
@@ -104,13 +128,51 @@ void FlexInteractionLoop::action()
 	if (!same) {
 		seenFunctors.clear();
 		markReaders.clear();
+		sphereReaders.clear();
 		for (const auto& f : geomDispatcher->functors) {
 			const IGeomFunctor* g = f.get();
 			seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
 			if (flexa::readsUnreachableMarks(g)) markReaders.push_back(g);
+			if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) sphereReaders.push_back(g);
 		}
 	}
 	const Marked marked { ic.iterColliderLastRun == flexa::kMarksValid, &markReaders };
+#ifdef YADE_OPENMP
+	const int threads = ompThreads > 0 ? std::min(ompThreads, omp_get_max_threads()) : omp_get_max_threads();
+#endif
+	// this step's table of sphere centres and radii, for quickReject (its functor throws in
+	// periodic scenes: not used there)
+	Apart apart;
+	if (quickReject && !sphereReaders.empty() && !scene->isPeriodic) {
+		spherePoints.resize(bodies.n);
+		SpherePoint* pts = spherePoints.data();
+		const long   nb  = bodies.n;
+		constexpr long kBody = 16, kParts = 8; // prefetch distances [bodies]
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads) if (nb >= 8192)
+#endif
+		for (long id = 0; id < nb; ++id) {
+			if (id + kBody < nb) flexa::prefetch(bodies.p[id + kBody].get(), sizeof(Body));
+			if (id + kParts < nb)
+				if (const Body* c = bodies.p[id + kParts].get()) { // (of the state, only the line(s) of pos)
+					if (const State* st = c->state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
+					flexa::prefetch(c->shape.get(), sizeof(Sphere));
+				}
+			SpherePoint& q = pts[id];
+			q.r            = -1;
+			const Body* b  = bodies.p[id].get();
+			if (!b) continue;
+			const Shape* sh = b->shape.get();
+			const State* st = b->state.get();
+			if (!sh || !st || typeid(*sh) != typeid(Sphere)) continue;
+			q.x = st->pos[0];
+			q.y = st->pos[1];
+			q.z = st->pos[2];
+			q.r = static_cast<const Sphere*>(sh)->radius;
+		}
+		apart = Apart { true, &sphereReaders, pts, nb };
+	}
+	long rejected = 0;
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
@@ -122,8 +184,7 @@ void FlexInteractionLoop::action()
 	};
 
 #ifdef YADE_OPENMP
-	const int threads = ompThreads > 0 ? std::min(ompThreads, omp_get_max_threads()) : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rejected)
 #endif
 	for (long c = 0; c < nBlocks; ++c) {
 		if (failed) continue;
@@ -138,7 +199,12 @@ void FlexInteractionLoop::action()
 			if (i + kFar < hi) flexa::prefetch(intrs[i + kFar].get(), sizeof(Interaction));
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
-			if (!(marked(scene, J) && bodies.get(J.getId1()) && bodies.get(J.getId2()))) live[nLive++] = i;
+			if (marked(scene, J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) continue;
+			if (apart(J)) {
+				++rejected;
+				continue;
+			}
+			live[nLive++] = i;
 		}
 		// pass 2: the live ones, with their bodies, geom and phys asked for kMid live
 		// interactions ahead and the bodies' states and shapes kNear ahead
@@ -209,6 +275,7 @@ void FlexInteractionLoop::action()
 			}
 		}
 	}
+	quickRejected = rejected;
 	if (error) std::rethrow_exception(error);
 }
 
