@@ -41,7 +41,9 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
     The loop over interactions is FlexInteractionLoop: YADE's InteractionLoop with the same
     functor calls in the same order (same results) that asks for each interaction's data a few
-    iterations ahead (pkg/yade/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop).
+    iterations ahead (pkg/yade/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop),
+    and leaves out the sphere pairs whose spheres are apart from a table of their centres before
+    reading their bodies (.quickReject; same results).
     guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
     naming the bodies at the first non-finite value, step longer than half a contact radius or
     (with O.trackEnergy) energy created without external work; it costs one pass over the
