@@ -84,7 +84,10 @@ def scene(p, grains, kind, dt=None):
     cont = FrictMat(young=1e8, poisson=0.3, density=1000, frictionAngle=0.0, label="container")
     O.materials.append(cont)
     O.bodies.append(utils.wall(0, axis=2, sense=1, material=fill))
+    # where the lining was: the fill's container radius, or farther out where the settled grains
+    # bear on a lining that bulged (the fills since 76fcaeb), 0.1 mm clear of the outermost grain
     _, r_in = fill_radii(p)
+    r_in = max(r_in, max(math.hypot(c[0], c[1]) + r for c, r in grains) + 1e-4)
     O.bodies.append(geom.facetCylinder((0, 0, 0.6 * p.height), r_in, 1.2 * p.height, segmentsNumber=48, wallMask=4, material=cont))
     for c, r in grains:
         O.bodies.append(utils.sphere(c, r, material=fill))
