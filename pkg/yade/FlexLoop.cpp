@@ -66,10 +66,10 @@ namespace {
 	// asks for more, |x2 - x1|^2 > (R1 + R2)^2 (1 + 1e-12), so that round-off can never make the
 	// two disagree (the pairs in between go to the functor).
 	struct Apart {
-		bool                                      valid = false;
-		const std::vector<const IGeomFunctor*>*   readers; // the sphere-sphere functors
-		const FlexInteractionLoop::SpherePoint*   p;
-		long                                      n;
+		bool                                      valid   = false;
+		const std::vector<const IGeomFunctor*>*   readers = nullptr; // the sphere-sphere functors
+		const FlexInteractionLoop::SpherePoint*   p       = nullptr;
+		long                                      n       = 0;
 		bool                                      operator()(const Interaction& I) const
 		{
 			if (!valid || I.geom) return false;
@@ -100,7 +100,8 @@ void FlexInteractionLoop::action()
 	// the collider asks for unseen potential interactions to go on this step (some colliders only)
 	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
 	if (!prefetch || removeUnseen || !callbacks.empty() || loopOnSortedInteractions || blockSize < 1 || blockSize > kMaxBlock || !(ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)) {
-		usedFastPath = false;
+		usedFastPath  = false;
+		quickRejected = 0;
 		InteractionLoop::action();
 		return;
 	}
@@ -113,6 +114,7 @@ void FlexInteractionLoop::action()
 	lawDispatcher->updateScenePtr();
 
 	const long n = (long)ic.size();
+	quickRejected = 0;
 	if (n == 0) return;
 	const shared_ptr<Interaction>* intrs = &ic[0];
 	const Bodies                   bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() };
