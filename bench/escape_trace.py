@@ -29,6 +29,7 @@ from yade import O  # noqa: E402
 import yadeflex as yf  # noqa: E402
 from yadeflex.module import ModuleParams, filled_module, add_boulder  # noqa: E402
 import bench_module as bmod  # noqa: E402
+from builtin_pfacet import _closest_on_triangle  # noqa: E402  (Ericson's walk of the Voronoi regions)
 
 
 def parse():
@@ -46,33 +47,6 @@ def parse():
 def tri_nodes(f):
     s = O.bodies[f].shape
     return tuple(n if isinstance(n, int) else n.id for n in (s.node1, s.node2, s.node3))
-
-
-def point_triangle_distance(p, a, b, c):
-    """Distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5)."""
-    ab, ac, ap_ = b - a, c - a, p - a
-    d1, d2 = ab @ ap_, ac @ ap_
-    if d1 <= 0 and d2 <= 0:
-        return np.linalg.norm(p - a)
-    bp = p - b
-    d3, d4 = ab @ bp, ac @ bp
-    if d3 >= 0 and d4 <= d3:
-        return np.linalg.norm(p - b)
-    vc = d1 * d4 - d3 * d2
-    if vc <= 0 and d1 >= 0 and d3 <= 0:
-        return np.linalg.norm(p - (a + d1 / (d1 - d3) * ab))
-    cp = p - c
-    d5, d6 = ab @ cp, ac @ cp
-    if d6 >= 0 and d5 <= d6:
-        return np.linalg.norm(p - c)
-    vb = d5 * d2 - d1 * d6
-    if vb <= 0 and d2 >= 0 and d6 <= 0:
-        return np.linalg.norm(p - (a + d2 / (d2 - d6) * ac))
-    va = d3 * d6 - d5 * d4
-    if va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0:
-        return np.linalg.norm(p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b)))
-    den = 1.0 / (va + vb + vc)
-    return np.linalg.norm(p - (a + ab * vb * den + ac * vc * den))
 
 
 def main():
@@ -115,14 +89,15 @@ def main():
             x = np.array(list(b.state.pos))
             ang = math.degrees(math.atan2(x[1], x[0]))
             close = np.nonzero(((C - x)**2).sum(axis=1) < 0.15**2)[0]
-            gap = min((point_triangle_distance(x, *T[k]) for k in close), default=float("inf")) - radius[g]
+            gap = min((np.linalg.norm(x - np.array(_closest_on_triangle(x, *T[k])[0])) for k in close), default=float("inf")) - radius[g]
             history.setdefault(g, []).append((t, x, np.array(list(b.state.vel)), gap, top_z(ang, X)))
         for g in near_wall:
             if g not in out and bmod.escaped([g], ray_tris, mesh)[0]:
                 out[g] = t
                 print(f"  t = {1e3 * t:5.1f} ms: grain #{g} outside the lining ({time.time() - w0:.0f} s)", flush=True)
     torn = [f for f in lining if O.bodies[f] is None]
-    legs = sum(1 for c in ids["mesh_cylinders"] if O.bodies[c] is None or getattr(O.bodies[c].shape, "broken", False))
+    # a ruptured element is erased (FlexElementEngine); its nRuptured counts legs, ring segments and facets alike
+    legs = sum(1 for c in list(ids["mesh_cylinders"]) + list(ids["ring_top"]) + list(ids["ring_bottom"]) if O.bodies[c] is None)
     for g, t_out in sorted(out.items(), key=lambda kv: kv[1]):
         h = history[g]
         # the sample at which the grain's centre crossed the lining's radius at rest (about 0.49 m)
@@ -135,7 +110,7 @@ def main():
         rows.append(dict(grain=g, radius_mm=1e3 * radius[g], t_outside_ms=1e3 * t_out, t_cross_ms=1e3 * tk, z_cross_m=x[2], speed_m_s=float(np.linalg.norm(v)),
                          free_flight=bool(max(dv) < 0.05), gap_to_lining_mm=1e3 * gap, lining_top_z_then_m=zt, lining_top_z_start_m=top_z(ang, X0),
                          torn_facet_within_0_1_m=len(torn_near) > 0))
-    print(f"\n{len(out)} grains outside the lining in {1e3 * a.t_end:.0f} ms; {len(torn)} lining facets torn, {legs} legs broken")
+    print(f"\n{len(out)} grains outside the lining in {1e3 * a.t_end:.0f} ms; {len(torn)} lining facets torn, {legs} legs and ring segments broken")
     print("grain  R mm  out at ms  crossing ms  z m    speed  free flight  gap mm  lining top z then / at start  torn facet near")
     for r in rows:
         print(f"{r['grain']:5d}  {r['radius_mm']:4.1f}  {r['t_outside_ms']:9.1f}  {r['t_cross_ms']:11.1f}  {r['z_cross_m']:.3f}  {r['speed_m_s']:5.2f}  "
