@@ -66,21 +66,25 @@ namespace {
 	// asks for more, |x2 - x1|^2 > (R1 + R2)^2 (1 + 1e-12), so that round-off can never make the
 	// two disagree (the pairs in between go to the functor).
 	struct Apart {
-		bool                                      valid   = false;
-		const std::vector<const IGeomFunctor*>*   readers = nullptr; // the sphere-sphere functors
-		const FlexInteractionLoop::SpherePoint*   p       = nullptr;
+		const std::vector<const IGeomFunctor*>*   readers = nullptr; // the sphere-sphere functors (null: quickReject off)
+		const FlexInteractionLoop::SpherePoint*   p       = nullptr; // this step's table (null: not made)
 		long                                      n       = 0;
-		bool                                      operator()(const Interaction& I) const
+		// 0: not a candidate; 1: a candidate the table does not leave out (or no table); 2: left out.
+		// A candidate: no contact and the sphere-sphere functor, or no functor cached yet (a new
+		// pair, which may become one).
+		int operator()(const Interaction& I) const
 		{
-			if (!valid || I.geom) return false;
+			if (!readers || I.geom || !I.functorCache.geomExists) return 0;
 			const IGeomFunctor* f = I.functorCache.geom.get();
-			if (!f || std::find(readers->begin(), readers->end(), f) == readers->end()) return false;
+			if (!f) return 1;
+			if (std::find(readers->begin(), readers->end(), f) == readers->end()) return 0;
+			if (!p) return 1;
 			const Body::id_t i1 = I.getId1(), i2 = I.getId2();
-			if (i1 < 0 || i2 < 0 || i1 >= n || i2 >= n) return false;
+			if (i1 < 0 || i2 < 0 || i1 >= n || i2 >= n) return 1;
 			const FlexInteractionLoop::SpherePoint &a = p[i1], &b = p[i2];
-			if (a.r < 0 || b.r < 0) return false;
+			if (a.r < 0 || b.r < 0) return 1;
 			const Real dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z, s = a.r + b.r;
-			return dx * dx + dy * dy + dz * dz > s * s * (1 + 1e-12);
+			return dx * dx + dy * dy + dz * dz > s * s * (1 + 1e-12) ? 2 : 1;
 		}
 	};
 
@@ -100,8 +104,10 @@ void FlexInteractionLoop::action()
 	// the collider asks for unseen potential interactions to go on this step (some colliders only)
 	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
 	if (!prefetch || removeUnseen || !callbacks.empty() || loopOnSortedInteractions || blockSize < 1 || blockSize > kMaxBlock || !(ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)) {
-		usedFastPath  = false;
-		quickRejected = 0;
+		usedFastPath    = false;
+		quickRejected   = 0;
+		quickCandidates = 0;
+		lastCandidates  = -1;
 		InteractionLoop::action();
 		return;
 	}
@@ -114,8 +120,12 @@ void FlexInteractionLoop::action()
 	lawDispatcher->updateScenePtr();
 
 	const long n = (long)ic.size();
-	quickRejected = 0;
-	if (n == 0) return;
+	quickRejected   = 0;
+	quickCandidates = 0;
+	if (n == 0) {
+		lastCandidates = 0;
+		return;
+	}
 	const shared_ptr<Interaction>* intrs = &ic[0];
 	const Bodies                   bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() };
 	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
@@ -145,7 +155,8 @@ void FlexInteractionLoop::action()
 	// this step's table of sphere centres and radii, for quickReject (its functor throws in
 	// periodic scenes: not used there)
 	Apart apart;
-	if (quickReject && !sphereReaders.empty() && !scene->isPeriodic) {
+	if (quickReject && !sphereReaders.empty() && !scene->isPeriodic) apart.readers = &sphereReaders;
+	if (apart.readers && lastCandidates != 0) {
 		spherePoints.resize(bodies.n);
 		SpherePoint* pts = spherePoints.data();
 		const long   nb  = bodies.n;
@@ -172,9 +183,10 @@ void FlexInteractionLoop::action()
 			q.z = st->pos[2];
 			q.r = static_cast<const Sphere*>(sh)->radius;
 		}
-		apart = Apart { true, &sphereReaders, pts, nb };
+		apart.p = pts;
+		apart.n = nb;
 	}
-	long rejected = 0;
+	long rejected = 0, candidates = 0;
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
@@ -186,7 +198,7 @@ void FlexInteractionLoop::action()
 	};
 
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rejected)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rejected, candidates)
 #endif
 	for (long c = 0; c < nBlocks; ++c) {
 		if (failed) continue;
@@ -202,9 +214,12 @@ void FlexInteractionLoop::action()
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
 			if (marked(scene, J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) continue;
-			if (apart(J)) {
-				++rejected;
-				continue;
+			if (const int a = apart(J)) {
+				++candidates;
+				if (a == 2) {
+					++rejected;
+					continue;
+				}
 			}
 			live[nLive++] = i;
 		}
@@ -277,7 +292,9 @@ void FlexInteractionLoop::action()
 			}
 		}
 	}
-	quickRejected = rejected;
+	quickRejected   = rejected;
+	quickCandidates = candidates;
+	lastCandidates  = apart.readers ? candidates : -1; // (not counted: count on the next step)
 	if (error) std::rethrow_exception(error);
 }
 

@@ -22,6 +22,8 @@
 //     step from the bodies in id order): such a pair costs a lookup in a table that stays in cache
 //     instead of reading two bodies, states and shapes scattered on the heap (on the damping
 //     module 5 ms into the impact: 4,900 of the 12,800 pairs left after the marks; bench/README.md);
+//     the table is made only on steps after one that had such pairs, or new pairs (so not on a
+//     wire net, which has none);
 //  2. it runs the functors on the listed ones, asking for their bodies, geom and phys
 //     `ahead[1]` listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead.
 // Prefetches never fault, and only interactions of the thread's own block are read ahead (no
@@ -59,6 +61,10 @@ private:
 	// centres and radii of the bodies that are plain Spheres (r < 0: any other body), by id
 	std::vector<const IGeomFunctor*> sphereReaders;
 	std::vector<SpherePoint> spherePoints;
+	// pairs that quickReject could have judged on the last step (no contact, and the sphere-sphere
+	// functor or none cached yet); -1: not counted yet. The table is made only when this is not 0
+	// (a net of wires has no sphere pairs: making the table for nothing cost it 5 us of a 35 us step)
+	long lastCandidates = -1;
 
 public:
 	void action() override;
@@ -71,6 +77,7 @@ public:
 		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))
 		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step [-]"))
+		((long, quickCandidates, 0, Attr::readonly, "Pairs quickReject could judge on the last step: no contact, and Ig2_Sphere_Sphere_FlexContactGeom or no functor yet (the table of centres is made on the next step only if this is not 0) [-]"))
 	);
 	// clang-format on
 };

@@ -122,3 +122,32 @@ def test_a_pair_without_ip2_functor_raises(scene):
 def test_it_is_an_interaction_loop():
     il = FlexInteractionLoop()
     assert isinstance(il, InteractionLoop) and il.prefetch and il.blockSize == 256
+
+
+def test_quick_reject_table_is_made_only_after_steps_with_sphere_pairs(scene):
+    """quickReject's table of centres is made on a step only if the step before had pairs it could
+    judge (quickCandidates): two spheres 0.1 mm apart, inside each other's bounds, are judged once
+    their functor is known (first step: a new pair, sent to its functor) and left out from then on;
+    a wire net alone has no such pair, and its steps make no table."""
+    a = S.sphere((0, 0, 0), 0.05)
+    b = S.sphere((0, 0, 0.1001), 0.05)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.step()
+    il = _loop()
+    assert il.usedFastPath and O.interactions.has(a, b) and not O.interactions[a, b].isReal
+    assert (il.quickCandidates, il.quickRejected) == (1, 0)  # no functor cached yet
+    for _ in range(3):
+        O.step()
+        assert (il.quickCandidates, il.quickRejected) == (1, 1)
+    O.reset()
+    mat = yf.steel()
+    # a zigzag whose legs lie 0.025 m apart: pairs of non-neighbour cylinders in the collider
+    yf.chain([(0.1 * (k % 2), 0.025 * (k // 2), 0) for k in range(12)], 0.005, mat, fixed=[0])
+    O.engines = yf.engines()
+    candidates = []
+    for _ in range(20):
+        O.step()
+        candidates.append(_loop().quickCandidates)
+    assert len(O.interactions) > 0 and _loop().usedFastPath
+    # the first step's new pairs (no functor yet) count; once their functors are known, none
+    assert candidates[0] > 0 and candidates[-1] == 0 and _loop().quickRejected == 0, candidates
