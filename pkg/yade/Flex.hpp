@@ -233,6 +233,21 @@ class FlexElementEngine : public GlobalEngine {
 	std::vector<int>        slotOf;     // body id -> index in slotNode (-1: not a cylinder node)
 	std::vector<Body::id_t> slotNode;   // the cylinders' nodes
 	std::vector<Vector3r>   accF, accM; // per-node sums of the serial element loop
+	// Per cylinder (same order as `cylinders`), what its forces read and write, as pointers: the
+	// loop checks them against the bodies (loads whose results only feed a branch) and computes
+	// from the pointers, so the chain body -> shape -> node ids -> node bodies -> states is off the
+	// forces' critical path (a chain of 8 dependent loads per element before). A pointer that no
+	// longer matches (a body, shape, state or material replaced from Python) is looked up again.
+	struct Link {
+		const Body*     b   = nullptr; // the element body,
+		FlexCylinder*   c   = nullptr; // its shape,
+		const Material* m   = nullptr; // its material (cast where used: an address may be reused),
+		State*          se  = nullptr; // its state (follows the nodes),
+		const Body *    bi = nullptr, *bj = nullptr; // the nodes' bodies
+		State *         si = nullptr, *sj = nullptr; // and states
+	};
+	std::vector<Link>       links;
+	static Link             linkOf(const Scene* scene, const Body* b); // all null if not computable
 	void                    refresh();
 	void                    facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
 

@@ -145,3 +145,28 @@ def test_rupture_step_books_the_broken_elements_energy_once(scene):
     left = [O.bodies[c].shape.elasticEnergy for c in s["cylinders"] if O.bodies[c] is not None]
     assert O.energy["flexRupture"] > 0
     assert O.energy["flexBondElastic"] == pytest.approx(sum(left), rel=1e-12, abs=1e-12 * O.energy["flexRupture"])
+
+
+@pytest.mark.parametrize("bending_factor", [1.0, 0.0])
+def test_element_loop_follows_states_and_materials_replaced_from_python(scene, bending_factor):
+    """FlexElementEngine keeps, per cylinder, pointers to its shape, material and nodes' states,
+    checked against the bodies at each step: a node state or a material replaced from Python is
+    used from the next step on (EA dL/L0 with the new position, then with the new modulus)."""
+    from yade.wrapper import State
+    r, E = 0.01, 200e9
+    nodes, cyls = yf.chain([(0, 0, 0), (1, 0, 0)], r, yf.steel(bending_factor=bending_factor), fixed=[0])
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    EA = E * math.pi * r ** 2
+
+    def pull(x):
+        st = State()
+        st.pos, st.mass, st.blockedDOFs = Vector3(x, 0, 0), 1.0, "xyzXYZ"
+        O.bodies[nodes[1]].state = st  # a new State object
+        O.step()
+        return O.bodies[cyls[0]].shape.axialForce
+
+    assert_rel(pull(1.001), EA * 1e-3, 1e-9, "axial force after the node's state was replaced")
+    assert_rel(pull(1.002), EA * 2e-3, 1e-9, "after a second replacement")
+    O.bodies[cyls[0]].material = yf.steel(young=E / 2, bending_factor=bending_factor, label="soft")
+    O.step()
+    assert_rel(O.bodies[cyls[0]].shape.axialForce, EA / 2 * 2e-3, 1e-9, "after the material was replaced")
