@@ -98,6 +98,15 @@ namespace flexa {
 		for (uintptr_t line = a & ~uintptr_t(63); line < end; line += 64)
 			__builtin_prefetch(reinterpret_cast<const void*>(line), 0, 3);
 	}
+	/// For a pass over all bodies in id order, at body `id`: asks for the body 16 ahead and, through
+	/// parts(const Body&), for what the body 8 ahead points to (its state, shape, bound: read from
+	/// a body asked for 8 bodies before). Such passes do 10-30 ns per body; a miss costs ~100 ns.
+	template <class Parts> inline void prefetchBodiesAhead(const shared_ptr<Body>* body, long n, long id, Parts&& parts)
+	{
+		if (id + 16 < n) prefetch(body[id + 16].get(), sizeof(Body));
+		if (id + 8 < n)
+			if (const Body* c = body[id + 8].get()) parts(*c);
+	}
 
 	/// Counts the elements FlexElementEngine has erased (rupture), in any scene: FlexNewtonIntegrator
 	/// rebuilds its node table of the collider trigger when it changes.

@@ -160,17 +160,14 @@ void FlexInteractionLoop::action()
 		spherePoints.resize(bodies.n);
 		SpherePoint* pts = spherePoints.data();
 		const long   nb  = bodies.n;
-		constexpr long kBody = 16, kParts = 8; // prefetch distances [bodies]
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads) if (nb >= 8192)
 #endif
 		for (long id = 0; id < nb; ++id) {
-			if (id + kBody < nb) flexa::prefetch(bodies.p[id + kBody].get(), sizeof(Body));
-			if (id + kParts < nb)
-				if (const Body* c = bodies.p[id + kParts].get()) { // (of the state, only the line(s) of pos)
-					if (const State* st = c->state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
-					flexa::prefetch(c->shape.get(), sizeof(Sphere));
-				}
+			flexa::prefetchBodiesAhead(bodies.p, nb, id, [](const Body& c) { // (of the state, only the line(s) of pos)
+				if (const State* st = c.state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
+				flexa::prefetch(c.shape.get(), sizeof(Sphere));
+			});
 			SpherePoint& q = pts[id];
 			q.r            = -1;
 			const Body* b  = bodies.p[id].get();
