@@ -4,6 +4,9 @@
 #     yade-double -n -j1 -x bench/stability.py [--quick] [--groups dt,speed,material,rupture] [--no-default-module]
 #     yade-double -n -j1 -x bench/stability.py --groups dtmodule   # the default module's margin (25 min)
 #
+# A run of some of the default groups (--groups speed) replaces those groups' rows of
+# results/stability.csv and stability_margins.csv and keeps the other groups' rows.
+#
 # Every case is a scene of yadeflex (the builders the tests and benchmarks use) run in this one
 # process, one after the other, with these common rules:
 #   - time step: FlexTimeStepper keeps estimating the critical step (safety 1, its usual interval
@@ -73,6 +76,7 @@ MIN_DT_FRACTION = 0.01  # the damping module's own check (scripts/damping_module
 FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)
 BISECT_TOL = 0.05
 RESULTS = os.path.join(BENCH, "results")
+DEFAULT_GROUPS = ("dt", "speed", "material", "rupture")
 OUT = [""]          # file name suffix: "_quick" in --quick mode (the full results stay)
 
 
@@ -360,9 +364,36 @@ def print_row(r):
     print("  " + " | ".join(_fmt(k, r[k]) for k in COLS if k not in ("group",)), flush=True)
 
 
-def write(rows, margins, line):
+def kept_rows(groups):
+    """The rows and margin rows of the existing results/stability{OUT}.csv whose group was not run
+    now, so that --groups speed (say) updates its own rows and keeps the others."""
+    path = os.path.join(RESULTS, f"stability{OUT[0]}.csv")
+    if not os.path.exists(path):
+        return [], []
+    with open(path) as f:
+        old = [dict(r, factor=float(r["factor"]), max_residual=float(r["max_residual"])) for r in csv.DictReader(f)
+               if r["group"] not in groups]
+    scenes = {(r["scene"], r["params"]) for r in old}
+    mpath = os.path.join(RESULTS, f"stability{OUT[0]}_margins.csv")
+    margins = []
+    if os.path.exists(mpath):
+        with open(mpath) as f:
+            rd = csv.reader(f)
+            next(rd, None)
+            margins = [m for m in rd if (m[0], m[1]) in scenes]
+    return old, margins
+
+
+def write(rows, margins, line, groups=DEFAULT_GROUPS):
+    """results/stability{OUT}.csv, _margins.csv, _machine.txt and .png. A run of some of the default
+    groups replaces those groups' rows and keeps the others' (each machine line says which groups
+    it measured)."""
     os.makedirs(RESULTS, exist_ok=True)
-    keys = list(rows[0].keys())
+    partial = OUT[0] == "" and set(groups) < set(DEFAULT_GROUPS)
+    old, old_margins = kept_rows(groups) if partial else ([], [])
+    old_margins = [m for m in old_margins if (m[0], m[1]) not in margins]
+    rows = old + rows
+    keys = list(rows[-1].keys())
     with open(os.path.join(RESULTS, f"stability{OUT[0]}.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
         w.writeheader()
@@ -370,10 +401,16 @@ def write(rows, margins, line):
     with open(os.path.join(RESULTS, f"stability{OUT[0]}_margins.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["scene", "params", "last_stable_factor", "first_unstable_factor", "stable_at_1", f"residual_below_{ACCURATE:g}_up_to"])
+        w.writerows(old_margins)
         for (scene, params), (ok, bad) in margins.items():
             w.writerow([scene, params, ok if ok is not None else "", bad if bad is not None else "", *margin_extras(rows, scene, params)])
-    with open(os.path.join(RESULTS, f"stability{OUT[0]}_machine.txt"), "w") as f:
-        f.write(line)
+    mpath = os.path.join(RESULTS, f"stability{OUT[0]}_machine.txt")
+    before = ""
+    if partial and old and os.path.exists(mpath):
+        with open(mpath) as f:
+            before = "".join(l for l in f if not any(l.startswith(f"groups {g}:") for g in groups))
+    with open(mpath, "w") as f:
+        f.write(before + (f"groups {','.join(groups)}: " if partial else "") + line)
     try:
         plot(rows, os.path.join(RESULTS, f"stability{OUT[0]}.png"))
     except Exception as e:  # the numbers are in the CSV; never lose them over a plot
@@ -463,7 +500,7 @@ def plot(rows, path):
 def main():
     ap = argparse.ArgumentParser(prog="stability.py")
     ap.add_argument("--quick", action="store_true", help="a few cases, no bisection (a few minutes)")
-    ap.add_argument("--groups", default="dt,speed,material,rupture", help="comma-separated; dtmodule (alone): the default module's time-step margin")
+    ap.add_argument("--groups", default=",".join(DEFAULT_GROUPS), help="comma-separated; dtmodule (alone): the default module's time-step margin")
     ap.add_argument("--no-default-module", action="store_true", help="skip the default (full-size) module speeds")
     ap.add_argument("--plot-only", action="store_true", help="redraw results/stability.png from results/stability.csv")
     ap.add_argument("--markdown", action="store_true", help="print the tables of STABILITY.md from results/stability*.csv")
@@ -510,7 +547,7 @@ def main():
         params = f"{ModuleParams().impact_speed():.2f} m/s"
         margins[("module default", params)] = margin(functools.partial(module, False, None, 0.1), "dt", "module default", params, rows)
     if rows:  # what is measured so far, in case a later group is stopped
-        write(rows, margins, line)
+        write(rows, margins, line, groups)
     if "material" in groups:
         print("== stiff and soft materials (E and contact moduli x scale)", flush=True)
         for scale in (100.0, 0.01):
@@ -527,7 +564,7 @@ def main():
                         for f in (0.25, 0.1, 0.05):
                             rows.append(run_case(build, f, "material", scene, params))
     if rows:  # what is measured so far, in case a later group is stopped
-        write(rows, margins, line)
+        write(rows, margins, line, groups)
     if "rupture" in groups:
         print("== rupture", flush=True)
         for f in ((0.5,) if q else (0.5, 1.0)):
@@ -538,7 +575,7 @@ def main():
             # more damping (quasi-static tests use up to 0.8): the damping once booked on the driven DOFs grew with it
             rows.append(run_case(functools.partial(panel, damping=0.8), f, "rupture", "panel", "0.5 m, to rupture, damping 0.8"))
     if rows:  # what is measured so far, in case a later group is stopped
-        write(rows, margins, line)
+        write(rows, margins, line, groups)
     if "speed" in groups:
         fm = ModuleParams().timestep_safety
         print(f"== impact speeds (damping module, time-step factor {fm:g} = ModuleParams.timestep_safety)", flush=True)
@@ -551,7 +588,7 @@ def main():
             for v in (None, 15.0, 30.0):
                 rows.append(run_case(functools.partial(module, False, v, 0.1), fm, "speed", "module default",
                                      f"{v:g} m/s" if v else f"{ModuleParams().impact_speed():.2f} m/s"))
-    write(rows, margins, line)
+    write(rows, margins, line, groups)
     if margins:
         print("== margins (factor x the estimated critical step)")
         for (scene, params), (ok, bad) in margins.items():
