@@ -922,6 +922,15 @@ namespace {
 			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 		}
 	};
+	// Cundall's non-viscous damping factor 1 - c sign(x_i) of each component (x_i = a_i v_i, v at
+	// mid-step), picked among 1 - c, 1 + c and 1 (the same values, bit for bit): about 5
+	// instructions a component instead of 22 (sign as an int, converted, multiplied, in a loop
+	// writing the vectors' components one by one; callgrind on the wire-net bench)
+	struct DampFactors {
+		Real     minus, plus; // 1 - c, 1 + c
+		Real     of(Real x) const { return x > 0 ? minus : (x < 0 ? plus : Real(1)); }
+		Vector3r factors(const Vector3r& x) const { return Vector3r(of(x[0]), of(x[1]), of(x[2])); }
+	};
 }
 
 void FlexNewtonIntegrator::action()
@@ -956,6 +965,7 @@ void FlexNewtonIntegrator::action()
 	const long n      = (long)movers.size();
 	const Body::id_t* mv = movers.data();
 	const bool        pf = prefetch;
+	const DampFactors damp { 1 - damping, 1 + damping };
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
 #ifdef YADE_OPENMP
@@ -1031,11 +1041,10 @@ void FlexNewtonIntegrator::action()
 					if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
 				}
 			}
-			if (st->isDamped && damping != 0)
-				for (int i = 0; i < 3; ++i) {
-					a[i] *= 1 - damping * math::sign(a[i] * (st->vel[i] + 0.5 * dt * a[i]));
-					al[i] *= 1 - damping * math::sign(al[i] * (st->angVel[i] + 0.5 * dt * al[i]));
-				}
+			if (st->isDamped && damping != 0) {
+				a  = a.cwiseProduct(damp.factors(a.cwiseProduct(st->vel + (0.5 * dt) * a)));
+				al = al.cwiseProduct(damp.factors(al.cwiseProduct(st->angVel + (0.5 * dt) * al)));
+			}
 			if (!dampGravity)
 				for (int i = 0; i < 3; ++i)
 					if (!(blocked & State::axisDOF(i, false))) a[i] += gravity[i];
