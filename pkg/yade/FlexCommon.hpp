@@ -92,16 +92,11 @@ namespace flexa {
 	/// objects are 16-byte aligned, so an object of 104 bytes may span three lines), to be read
 	/// soon. A prefetch never faults: p may be null or stale. The loops over interactions and
 	/// bodies wait on cache misses (objects scattered on the heap); they ask a few iterations ahead.
-	/// One prefetch per 64 bytes from p on and one for the last byte: straight-line code once
-	/// inlined with a constant size (a loop over the lines, whose count depends on p's alignment,
-	/// took ~6 instructions per line: 9% of the instructions of a wire-net step, all in cache;
-	/// callgrind, bench/README.md).
 	inline void prefetch(const void* p, size_t bytes)
 	{
-		const uintptr_t a = reinterpret_cast<uintptr_t>(p);
-		for (size_t off = 0; off < bytes; off += 64)
-			__builtin_prefetch(reinterpret_cast<const void*>(a + off), 0, 3);
-		__builtin_prefetch(reinterpret_cast<const void*>(a + bytes - 1), 0, 3);
+		const uintptr_t a = reinterpret_cast<uintptr_t>(p), end = a + bytes;
+		for (uintptr_t line = a & ~uintptr_t(63); line < end; line += 64)
+			__builtin_prefetch(reinterpret_cast<const void*>(line), 0, 3);
 	}
 	/// For a pass over all bodies in id order, at body `id`: asks for the body 16 ahead and, through
 	/// parts(const Body&), for what the body 8 ahead points to (its state, shape, bound: read from
