@@ -5,8 +5,8 @@
 #
 # Why: on this shared VM the speed of one run drifts by 20-50% within minutes, so that a change
 # of a few percent in one engine cannot be seen in times (bench_wire.py takes the median of 11
-# interleaved rounds for the headline ratio). The number of instructions executed is the same
-# in every run: it tells whether a change does less work, and where. It is not a time: a cache
+# interleaved rounds for the headline ratio). The number of instructions executed repeats from
+# run to run (to 0.02% here): it tells whether a change does less work, and where. It is not a time: a cache
 # miss costs many instructions' worth, and prefetching adds instructions that save time.
 #
 # Each implementation runs in its own `valgrind --tool=callgrind` process (a YADE step is about

@@ -66,6 +66,15 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 	return L;
 }
 
+namespace {
+	// Below this many items, a pass's data (a body, its state, bound and shape: ~700 bytes) stays in
+	// the core's cache from one step to the next, and asking for it ahead only adds instructions:
+	// 7% of the instructions of the wire-net panel's step (188 nodes, 336 links;
+	// bench/instructions_wire.py). The element loop and the integrator ask ahead only for larger
+	// passes (the damping module: 660 legs and ring segments, ~4,600 moving bodies).
+	constexpr long kPrefetchMin = 512;
+}
+
 void FlexElementEngine::action()
 {
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
@@ -88,6 +97,7 @@ void FlexElementEngine::action()
 	parallel = n >= parallelMin && omp_get_max_threads() > 1;
 #endif
 	const bool serial = !parallel;
+	const bool ahead  = serial && n >= kPrefetchMin;
 	if (serial) {
 		accF.assign(slotNode.size(), Vector3r::Zero());
 		accM.assign(slotNode.size(), Vector3r::Zero());
@@ -97,7 +107,7 @@ void FlexElementEngine::action()
 #pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex) reduction(+ : eElastic, ePlastic, nPlastic)
 #endif
 	for (long k = 0; k < n; ++k) {
-		if (serial && k + 4 < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
+		if (ahead && k + 4 < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
 			                           // serial only: in the parallel loop another thread may be rewriting it)
 			const Link& A = links[k + 4];
 			flexa::prefetch(A.c, sizeof(FlexCylinder));
@@ -964,7 +974,7 @@ void FlexNewtonIntegrator::action()
 	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const long n      = (long)movers.size();
 	const Body::id_t* mv = movers.data();
-	const bool        pf = prefetch;
+	const bool        pf = prefetch && n >= kPrefetchMin; // (small passes stay in cache)
 	const DampFactors damp { 1 - damping, 1 + damping };
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
