@@ -69,7 +69,7 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 namespace {
 	// Below this many items, a pass's data (a body, its state, bound and shape: ~700 bytes) stays in
 	// the core's cache from one step to the next, and asking for it ahead only adds instructions:
-	// 7% of the instructions of the wire-net panel's step (188 nodes, 336 links;
+	// 10% of the instructions of the wire-net panel's step (188 nodes, 336 links;
 	// bench/instructions_wire.py). The element loop and the integrator ask ahead only for larger
 	// passes (the damping module: 660 legs and ring segments, ~4,600 moving bodies).
 	constexpr long kPrefetchMin = 512;
