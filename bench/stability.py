@@ -393,7 +393,7 @@ def write(rows, margins, line, groups=DEFAULT_GROUPS):
     old, old_margins = kept_rows(groups) if partial else ([], [])
     old_margins = [m for m in old_margins if (m[0], m[1]) not in margins]
     rows = old + rows
-    keys = list(rows[-1].keys())
+    keys = list(dict.fromkeys(k for r in rows for k in r))  # (kept rows of an older column set get blanks, not a crash)
     with open(os.path.join(RESULTS, f"stability{OUT[0]}.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
         w.writeheader()
