@@ -41,7 +41,8 @@ struct WireCurve {
 	const double* strain = nullptr; ///< e_1..e_n [-], strictly increasing, > 0
 	const double* stress = nullptr; ///< s_1..s_n [Pa], > 0
 	int           n      = 0;
-	double        elasticModulus() const { return stress[0] / strain[0]; } ///< Ew [Pa]
+	double        Ew     = 0; ///< stress[0] / strain[0] if the caller computed it once for many links, else 0
+	double        elasticModulus() const { return Ew > 0 ? Ew : stress[0] / strain[0]; } ///< Ew [Pa]
 };
 
 /// Empty string if the curve is valid, else what is wrong with it (for a ValueError).

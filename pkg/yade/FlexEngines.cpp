@@ -84,6 +84,7 @@ void FlexElementEngine::action()
 	const bool              energy = scene->trackEnergy;
 	const Material* lastMat  = nullptr; // elements mostly share a material: cast it once
 	const FlexMat*  lastFlex = nullptr;
+	Real            lastEw   = 0; // its wire curve's elastic modulus (0: not a wire; see flexa::wireAxial)
 	const shared_ptr<Body>* bodies   = scene->bodies->body.data(); // (indexed directly: BodyContainer::operator[] is an out-of-line call)
 	const long              nBodies  = (long)scene->bodies->body.size();
 	// energies summed here and booked once per step (not twice per element)
@@ -98,13 +99,10 @@ void FlexElementEngine::action()
 #endif
 	const bool serial = !parallel;
 	const bool ahead  = serial && n >= kPrefetchMin;
-	if (serial) {
-		accF.assign(slotNode.size(), Vector3r::Zero());
-		accM.assign(slotNode.size(), Vector3r::Zero());
-	}
+	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex) reduction(+ : eElastic, ePlastic, nPlastic)
+#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic)
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (ahead && k + 4 < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
@@ -131,6 +129,7 @@ void FlexElementEngine::action()
 		if (lk.m != lastMat) {
 			lastMat  = lk.m;
 			lastFlex = dynamic_cast<const FlexMat*>(lastMat);
+			lastEw   = lastFlex && lastFlex->isWire() ? flexa::wireModulus(*lastFlex) : 0;
 		}
 		const FlexMat* mat = lastFlex;
 		if (!mat) continue;
@@ -138,16 +137,16 @@ void FlexElementEngine::action()
 		const bool       wire = mat->isWire();
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
 		flex::BeamForces f;
-		Real             L;
+		Real             L, strain; // (the strain divided out once, not twice)
 		// a bond without bending or twist stiffness (bendingFactor 0: a bar, or a truss link of a
 		// wire mesh) is axial only: no rotations to compute and no moments (tests/kernel/test_beam.cpp:
 		// the same forces bit for bit as the beam with EI = GJ = 0)
 		const bool bar = mat->bendingFactor == 0;
 		if (bar) {
 			const flex::Chord ch = flex::chord(si->pos, sj->pos);
-			const Real        e  = (ch.L - c.L0) / c.L0;
 			L                    = ch.L;
-			f = flex::barForces(ch, wire ? flexa::wireAxial(*mat, c, e) : flex::axialForce(e, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
+			strain               = (L - c.L0) / c.L0;
+			f = flex::barForces(ch, wire ? flexa::wireAxial(*mat, c, strain, lastEw) : flex::axialForce(strain, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
 		} else {
 			flex::BeamRest rest;
 			rest.L0                        = c.L0;
@@ -155,7 +154,8 @@ void FlexElementEngine::action()
 			rest.Qj                        = c.Q2;
 			const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
 			L                              = kin.L;
-			f                              = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, (kin.L - c.L0) / c.L0))
+			strain                         = (L - c.L0) / c.L0;
+			f                              = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, strain, lastEw))
 			                                      : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
 		}
 		if (!wire) {
@@ -163,16 +163,19 @@ void FlexElementEngine::action()
 			c.hardeningVar  = st.hardeningVar;
 		}
 		c.axialForce    = f.N;
-		c.strain        = (L - c.L0) / c.L0;
+		c.strain        = strain;
 		c.elasticEnergy = f.elasticEnergy;
 		const int s1 = serial ? slotOf[c.node1] : -1, s2 = serial ? slotOf[c.node2] : -1;
 		if (s1 >= 0 && s2 >= 0) {
 			accF[s1] += f.Fi;
 			accF[s2] += f.Fj;
 			if (!bar) {
+				if (!anyMoment) { // (zeroed only on steps with moments: bar meshes have none)
+					accM.assign(slotNode.size(), Vector3r::Zero());
+					anyMoment = true;
+				}
 				accM[s1] += f.Mi;
 				accM[s2] += f.Mj;
-				anyMoment = true;
 			}
 		} else {
 			scene->forces.addForce(c.node1, f.Fi);
@@ -201,12 +204,32 @@ void FlexElementEngine::action()
 			broken.push_back(id);
 		}
 	}
-	if (serial)
-		for (size_t i = 0; i < slotNode.size(); ++i) {
-			if (!bodies[slotNode[i]]) continue;
-			scene->forces.addForce(slotNode[i], accF[i]);
-			if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
-		}
+	if (serial && !slotNode.empty()) {
+		if (facets.empty()) {
+			// The contact forces summed first (ForceContainer::sync), the element forces then added
+			// to those sums directly: addForce costs a thread lookup and a size check per call, and
+			// the integrator's sync then has nothing left to do. With one thread each node's sum is
+			// the same bit for bit (its contact forces, then its element force); with several, the
+			// threads' contact sums are added before the element force instead of after. A later
+			// engine's addForce marks the container unsynced again and the integrator's sync adds
+			// it on top, as before. (With facets, facetForces below adds with addForce: kept.)
+			Body::id_t top = 0;
+			for (Body::id_t id : slotNode)
+				top = std::max(top, id);
+			scene->forces.addMaxId(top); // so that sync() sizes the sums to every node
+			scene->forces.sync();
+			for (size_t i = 0; i < slotNode.size(); ++i) {
+				if (!bodies[slotNode[i]]) continue;
+				scene->forces.addForceUnsynced(slotNode[i], accF[i]);
+				if (anyMoment) scene->forces.addTorqueUnsynced(slotNode[i], accM[i]);
+			}
+		} else
+			for (size_t i = 0; i < slotNode.size(); ++i) {
+				if (!bodies[slotNode[i]]) continue;
+				scene->forces.addForce(slotNode[i], accF[i]);
+				if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
+			}
+	}
 	if (energy && n > 0) {
 		flexa::addEnergy(scene, eElastic, "flexBondElastic", elastIx, true);
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
@@ -420,6 +443,9 @@ namespace {
 			s.mat = lastFrict;
 			if (!b->shape) continue;
 			s.shaped = true;
+			// a node (no contact radius, no element): told by its exact type first, which a
+			// failed cast to Sphere took a dynamic_cast to find (one per node and estimate)
+			if (typeid(*b->shape) == typeid(FlexNode)) continue;
 			if (const Sphere* sp = flexa::fastCast<Sphere>(b->shape.get())) {
 				s.radius = sp->radius;
 				s.sphere = true;
@@ -782,13 +808,35 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 
 namespace {
 	// How many times the scene's InsertionSortCollider has run (-1: the scene has none). Bounds
-	// and potential interactions change only when it runs.
+	// and potential interactions change only when it runs. Asked twice per step (time stepper,
+	// integrator): the engine list is checked against the one seen last (each engine's address
+	// and dynamic type, a pointer comparison each) and searched with dynamic_cast only when it
+	// changed (a dynamic_cast over the engines cost about 2,200 instructions per call: 1.4% of
+	// the wire net's instructions per step for the two calls).
+	struct ColliderMemo {
+		const Scene*                                                 scene = nullptr;
+		std::vector<std::pair<const Engine*, const std::type_info*>> seen;
+		const InsertionSortCollider*                                 collider = nullptr;
+	};
 	long insertionSortColliderRuns(const Scene* scene)
 	{
-		long runs = -1;
-		for (const auto& e : scene->engines)
-			if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) runs = c->numAction;
-		return runs;
+		thread_local ColliderMemo m;
+		const auto&               engines = scene->engines;
+		bool                      same    = m.scene == scene && m.seen.size() == engines.size();
+		for (size_t i = 0; same && i < engines.size(); ++i) {
+			const Engine* e = engines[i].get();
+			same            = e == m.seen[i].first && (!e || &typeid(*e) == m.seen[i].second);
+		}
+		if (!same) {
+			m.scene    = scene;
+			m.collider = nullptr;
+			m.seen.clear();
+			for (const auto& e : engines) {
+				m.seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
+				if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) m.collider = c; // the last one, as before
+			}
+		}
+		return m.collider ? m.collider->numAction : -1;
 	}
 }
 
@@ -1042,8 +1090,13 @@ void FlexNewtonIntegrator::action()
 			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
 			Vector3r a, al;
 			if (blocked == 0) { // the common case, as vectors (the same IEEE operations per component)
-				a  = dampGravity ? Vector3r(f / st->mass + gravity) : Vector3r(f / st->mass);
-				al = m.cwiseQuotient(st->inertia);
+				a = dampGravity ? Vector3r(f / st->mass + gravity) : Vector3r(f / st->mass);
+				// no moment (the nodes of bar and truss links, grains without contact): +-0 / I is
+				// +-0 for I > 0, so the quotient is the moment itself, bit for bit, without its
+				// three divisions
+				if (m[0] == 0 && m[1] == 0 && m[2] == 0 && st->inertia[0] > 0 && st->inertia[1] > 0 && st->inertia[2] > 0) al = m;
+				else
+					al = m.cwiseQuotient(st->inertia);
 			} else {
 				a = al = Vector3r::Zero();
 				for (int i = 0; i < 3; ++i) {
@@ -1067,7 +1120,10 @@ void FlexNewtonIntegrator::action()
 			const Real w = sqrt(w2);
 			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
 		}
-		st->ori.normalize();
+		// normalize() divides by sqrt(|q|^2): the identity when |q|^2 is exactly 1 (sqrt(1) = 1 and
+		// x / 1 = x), as for a node that never turned, whose square root and four divisions are
+		// skipped. Any other |q|^2 is normalized as before.
+		if (st->ori.squaredNorm() != 1) st->ori.normalize();
 		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
 			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
 			if (!(d == 0 || d < nSweep[id])) mx = 2;
