@@ -213,10 +213,7 @@ void FlexElementEngine::action()
 			// threads' contact sums are added before the element force instead of after. A later
 			// engine's addForce marks the container unsynced again and the integrator's sync adds
 			// it on top, as before. (With facets, facetForces below adds with addForce: kept.)
-			Body::id_t top = 0;
-			for (Body::id_t id : slotNode)
-				top = std::max(top, id);
-			scene->forces.addMaxId(top); // so that sync() sizes the sums to every node
+			scene->forces.addMaxId((Body::id_t)nBodies - 1); // so that sync() sizes the sums to every body
 			scene->forces.sync();
 			for (size_t i = 0; i < slotNode.size(); ++i) {
 				if (!bodies[slotNode[i]]) continue;
