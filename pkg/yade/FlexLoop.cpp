@@ -153,6 +153,11 @@ void FlexInteractionLoop::action()
 	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
 	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
 	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
+	// the interaction objects are asked for ahead only in containers of at least 512: a smaller
+	// one stays in the core's cache from one step to the next (as FlexElementEngine's and the
+	// integrator's passes), and the prefetches took a third of the loop's time on the wire net
+	// (298 pairs, perf)
+	const bool streamIn = n >= 512;
 	// the functors that read the marks, found again only when the dispatcher's list changes
 	bool same = seenFunctors.size() == geomDispatcher->functors.size();
 	for (size_t k = 0; same && k < seenFunctors.size(); ++k) {
@@ -226,10 +231,11 @@ void FlexInteractionLoop::action()
 		// are left (not marked unreachable), in their order
 		long live[kMaxBlock];
 		int  nLive = 0;
-		for (long k = lo; k < std::min(hi, lo + kFar); ++k)
-			flexa::prefetch(intrs[k].get(), sizeof(Interaction));
+		if (streamIn)
+			for (long k = lo; k < std::min(hi, lo + kFar); ++k)
+				flexa::prefetch(intrs[k].get(), sizeof(Interaction));
 		for (long i = lo; i < hi; ++i) {
-			if (i + kFar < hi) flexa::prefetch(intrs[i + kFar].get(), sizeof(Interaction));
+			if (streamIn && i + kFar < hi) flexa::prefetch(intrs[i + kFar].get(), sizeof(Interaction));
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
 			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) continue;
