@@ -66,13 +66,18 @@ namespace flexa {
 		static UnreachableMarks m;
 		return m;
 	}
+	/// Whether the mark at I's index (pairs[0..n), UnreachableMarks::pair of valid marks) is I's pair.
+	inline bool markMatches(const std::pair<Body::id_t, Body::id_t>* pairs, size_t n, const Interaction& I)
+	{
+		if (I.linIx < 0 || (size_t)I.linIx >= n) return false;
+		const std::pair<Body::id_t, Body::id_t>& p = pairs[I.linIx];
+		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
+	}
 	inline bool markedUnreachable(const Scene* scene, const Interaction& I)
 	{
 		if (scene->interactions->iterColliderLastRun != kMarksValid) return false;
 		const UnreachableMarks& m = unreachableMarks();
-		if (m.scene != scene || I.linIx < 0 || (size_t)I.linIx >= m.pair.size()) return false;
-		const std::pair<Body::id_t, Body::id_t>& p = m.pair[I.linIx];
-		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
+		return m.scene == scene && markMatches(m.pair.data(), m.pair.size(), I);
 	}
 
 	/// Whether this geometry functor skips marked pairs itself (returns false first thing when
@@ -92,6 +97,14 @@ namespace flexa {
 	/// objects are 16-byte aligned, so an object of 104 bytes may span three lines), to be read
 	/// soon. A prefetch never faults: p may be null or stale. The loops over interactions and
 	/// bodies wait on cache misses (objects scattered on the heap); they ask a few iterations ahead.
+	/// Below this many items, a pass's data (a body, its state, bound and shape: ~700 bytes; an
+	/// interaction object) stays in the core's cache from one step to the next, and asking for it
+	/// ahead only costs: the prefetches were 10% of the wire-net panel's instructions (188 nodes,
+	/// 336 links; bench/instructions_wire.py) and a third of its interaction loop's time (298
+	/// pairs, perf). The element loop, the integrator and FlexInteractionLoop ask ahead only in
+	/// larger passes (the damping module: 660 legs and ring segments, ~4,600 moving bodies,
+	/// 26,000 interactions).
+	constexpr long kPrefetchMin = 512;
 	inline void prefetch(const void* p, size_t bytes)
 	{
 		const uintptr_t a = reinterpret_cast<uintptr_t>(p), end = a + bytes;

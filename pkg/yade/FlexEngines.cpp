@@ -66,15 +66,6 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 	return L;
 }
 
-namespace {
-	// Below this many items, a pass's data (a body, its state, bound and shape: ~700 bytes) stays in
-	// the core's cache from one step to the next, and asking for it ahead only adds instructions:
-	// 10% of the instructions of the wire-net panel's step (188 nodes, 336 links;
-	// bench/instructions_wire.py). The element loop and the integrator ask ahead only for larger
-	// passes (the damping module: 660 legs and ring segments, ~4,600 moving bodies).
-	constexpr long kPrefetchMin = 512;
-}
-
 void FlexElementEngine::action()
 {
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
@@ -98,7 +89,7 @@ void FlexElementEngine::action()
 	parallel = n >= parallelMin && omp_get_max_threads() > 1;
 #endif
 	const bool serial = !parallel;
-	const bool ahead  = serial && n >= kPrefetchMin;
+	const bool ahead  = serial && n >= flexa::kPrefetchMin;
 	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
@@ -1019,7 +1010,7 @@ void FlexNewtonIntegrator::action()
 	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const long n      = (long)movers.size();
 	const Body::id_t* mv = movers.data();
-	const bool        pf = prefetch && n >= kPrefetchMin; // (small passes stay in cache)
+	const bool        pf = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
 	const DampFactors damp { 1 - damping, 1 + damping };
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
@@ -1117,10 +1108,11 @@ void FlexNewtonIntegrator::action()
 			const Real w = sqrt(w2);
 			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
 		}
-		// normalize() divides by sqrt(|q|^2): the identity when |q|^2 is exactly 1 (sqrt(1) = 1 and
-		// x / 1 = x), as for a node that never turned, whose square root and four divisions are
-		// skipped. Any other |q|^2 is normalized as before.
-		if (st->ori.squaredNorm() != 1) st->ori.normalize();
+		// Eigen's normalize() (divide by sqrt(|q|^2) if |q|^2 > 0), written out so that |q|^2 is
+		// computed once, and skipped when |q|^2 is exactly 1, where it is the identity (sqrt(1) = 1,
+		// x / 1 = x): a node that never turned saves a square root and four divisions
+		const Real q2 = st->ori.squaredNorm();
+		if (q2 != 1 && q2 > 0) st->ori.coeffs() /= sqrt(q2);
 		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
 			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
 			if (!(d == 0 || d < nSweep[id])) mx = 2;

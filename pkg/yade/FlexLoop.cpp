@@ -70,11 +70,7 @@ namespace {
 		bool operator()(const Interaction& I) const
 		{
 			if (!valid || I.geom) return false;
-			const long ix = I.linIx;
-			if (ix < 0 || (size_t)ix >= nPairs) return false;
-			const std::pair<Body::id_t, Body::id_t>& p = pairs[ix];
-			const Body::id_t                         a = I.getId1(), b = I.getId2();
-			if (!((p.first == a && p.second == b) || (p.first == b && p.second == a))) return false;
+			if (!flexa::markMatches(pairs, nPairs, I)) return false;
 			const IGeomFunctor* f = I.functorCache.geom.get();
 			for (const IGeomFunctor* g : *readers)
 				if (g == f) return true;
@@ -153,11 +149,7 @@ void FlexInteractionLoop::action()
 	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
 	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
 	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
-	// the interaction objects are asked for ahead only in containers of at least 512: a smaller
-	// one stays in the core's cache from one step to the next (as FlexElementEngine's and the
-	// integrator's passes), and the prefetches took a third of the loop's time on the wire net
-	// (298 pairs, perf)
-	const bool streamIn = n >= 512;
+	const bool streamIn = n >= flexa::kPrefetchMin; // (the interaction objects asked for ahead)
 	// the functors that read the marks, found again only when the dispatcher's list changes
 	bool same = seenFunctors.size() == geomDispatcher->functors.size();
 	for (size_t k = 0; same && k < seenFunctors.size(); ++k) {
