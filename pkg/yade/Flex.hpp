@@ -29,6 +29,7 @@
 // force; A stays one more step, inactive, so B reads stable data (deterministic, no data race).
 #pragma once
 #include "FlexPch.hpp"
+#include "FlexForces.hpp"
 
 namespace yade {
 
@@ -233,6 +234,10 @@ class FlexElementEngine : public GlobalEngine {
 	std::vector<int>        slotOf;     // body id -> index in slotNode (-1: not a cylinder node)
 	std::vector<Body::id_t> slotNode;   // the cylinders' nodes
 	std::vector<Vector3r>   accF, accM; // per-node sums of the serial element loop
+	// the threads' own sums of the element forces, when an element loop runs on several threads
+	// (flexa::ThreadForceSums; empty sinks: add to the ForceContainer)
+	flexa::ThreadForceSums         sums;
+	std::vector<flexa::ForceSink>  sinks;
 	// Per cylinder (same order as `cylinders`), what its forces read and write, as pointers: the
 	// loop checks them against the bodies (loads whose results only feed a branch) and computes
 	// from the pointers, so the chain body -> shape -> node ids -> node bodies -> states is off the
@@ -310,7 +315,6 @@ public:
 REGISTER_SERIALIZABLE(FlexTimeStepper);
 
 class FlexNewtonIntegrator : public NewtonIntegrator {
-	std::vector<Real>       thrMax;
 	std::vector<Body::id_t> movers, elements, facets; // bodies with DOFs / cylinder and facet bodies (cached)
 	size_t                  cachedBodyCount = 0;
 	bool              simple          = false; // no clump, no aspherical body: the fast path applies

@@ -90,6 +90,17 @@ void FlexElementEngine::action()
 #endif
 	const bool serial = !parallel;
 	const bool ahead  = serial && n >= flexa::kPrefetchMin;
+	// element loops on several threads: their forces into each thread's own sums, added once per
+	// body after both loops (flexa::ThreadForceSums; addForce from two threads at once contends)
+	sinks.clear();
+#ifdef YADE_OPENMP
+	if ((parallel || (long)facets.size() >= parallelMin) && omp_get_max_threads() > 1) {
+		const int threads = omp_get_max_threads();
+		sums.prepare(threads, nBodies);
+		for (int t = 0; t < threads; ++t)
+			sinks.push_back(sums.sink(t));
+	}
+#endif
 	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
@@ -169,11 +180,15 @@ void FlexElementEngine::action()
 				accM[s2] += f.Mj;
 			}
 		} else {
-			scene->forces.addForce(c.node1, f.Fi);
-			scene->forces.addForce(c.node2, f.Fj);
+			const flexa::ForceSink* sk = nullptr;
+#ifdef YADE_OPENMP
+			if (!sinks.empty()) sk = &sinks[omp_get_thread_num()];
+#endif
+			flexa::addForce(scene, sk, c.node1, f.Fi);
+			flexa::addForce(scene, sk, c.node2, f.Fj);
 			if (!bar) {
-				scene->forces.addTorque(c.node1, f.Mi);
-				scene->forces.addTorque(c.node2, f.Mj);
+				flexa::addTorque(scene, sk, c.node1, f.Mi);
+				flexa::addTorque(scene, sk, c.node2, f.Mj);
 			}
 		}
 		// the element body follows its nodes (output, display; it has no DOF)
@@ -223,6 +238,7 @@ void FlexElementEngine::action()
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
 	}
 	if (!facets.empty()) facetForces(broken);
+	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size());
 	{ // erase the collider pairs of bonded neighbours reported by the Ig2 (see FlexCommon.hpp)
 		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
 		std::lock_guard<std::mutex> lock(np.m);
@@ -296,8 +312,12 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 		Vector3r fp                     = Vector3r::Zero();
 		if (f.pressure != 0) // follower pressure: p A n / 3 on each node, A n = (x2-x1)x(x3-x1)/2
 			fp = f.pressure * (x[1] - x[0]).cross(x[2] - x[0]) / 6;
+		const flexa::ForceSink* sk = nullptr;
+#ifdef YADE_OPENMP
+		if (!sinks.empty() && n >= parallelMin) sk = &sinks[omp_get_thread_num()];
+#endif
 		for (int a = 0; a < 3; ++a)
-			scene->forces.addForce(ids[a], r.f[a] + fp);
+			flexa::addForce(scene, sk, ids[a], r.f[a] + fp);
 		b->state->pos = (x[0] + x[1] + x[2]) / 3;
 		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
 		if (energy) {
@@ -1001,12 +1021,12 @@ void FlexNewtonIntegrator::action()
 	const bool  byNode = nodeTableOk;
 	const Real* nSweep = nodeSweep.data();
 	const Vector3r* nRef = nodeRef.data();
-#ifdef YADE_OPENMP
-	const int nThr = omp_get_max_threads();
-#else
-	const int nThr = 1;
-#endif
-	thrMax.assign(nThr, 0);
+	// the collider trigger's maximum (0.5: every body inside its sweep, 2: one left it), each
+	// thread's own in the reduction. It was a table of per-thread entries, 8 bytes apart and
+	// written at every body, so two threads wrote one cache line by turns: the integrator took
+	// 1.18x less time on two threads than on one; 1.92x less with the reduction (the damping
+	// module 5 ms into the impact, medians of 5 runs; bench/README.md, "Two threads")
+	Real sweepMax = 0;
 	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const long n      = (long)movers.size();
 	const Body::id_t* mv = movers.data();
@@ -1015,7 +1035,7 @@ void FlexNewtonIntegrator::action()
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax)
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
@@ -1030,11 +1050,7 @@ void FlexNewtonIntegrator::action()
 		const shared_ptr<Body>& b  = bodies[id];
 		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
 		State* st = b->state.get();
-#ifdef YADE_OPENMP
-		Real& mx = thrMax[omp_get_thread_num()];
-#else
-		Real& mx = thrMax[0];
-#endif
+		Real& mx = sweepMax;
 		if (b->isClump()) { // the members' forces and moments about the clump's centre, added as NewtonIntegrator does
 			Vector3r F = Vector3r::Zero(), T = Vector3r::Zero();
 			static_cast<Clump*>(b->shape.get())->addForceTorqueFromMembers(st, scene, F, T);
@@ -1130,9 +1146,7 @@ void FlexNewtonIntegrator::action()
 		}
 		flexa::addEnergy(scene, eGrav, "gravWork", fieldWorkIx, false);
 	}
-	maxVelocitySq = 0;
-	for (Real v : thrMax)
-		maxVelocitySq = std::max(maxVelocitySq, v);
+	maxVelocitySq = sweepMax;
 	if (byNode) maxVelocitySq = std::max(maxVelocitySq, nodeBase);
 	else
 		flagElements();

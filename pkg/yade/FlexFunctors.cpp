@@ -322,7 +322,7 @@ bool Ig2_Sphere_Sphere_FlexContactGeom::go(
 
 namespace {
 	// Put force F (acting at c) on one side: a rigid body, or the two nodes of a segment.
-	void applySide(Scene* scene, Body::id_t body, const Vector2i& nodes, const Vector3i& tri, Real u, const Vector3r& bary, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
+	void applySide(Scene* scene, const flexa::ForceSink* sink, Body::id_t body, const Vector2i& nodes, const Vector3i& tri, Real u, const Vector3r& bary, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
 	{
 		if (tri[0] >= 0) { // facet: forces only, by the adjoint of the facet point velocity
 			Vector3r x[3], f[3];
@@ -334,20 +334,20 @@ namespace {
 			const double w[3] = { bary[0], bary[1], bary[2] };
 			flex::distributeToTriangle(x, w, flex::cappedFacetOffset(x, c - axisPoint), F, f);
 			for (int k = 0; k < 3; ++k)
-				scene->forces.addForce(tri[k], f[k]);
+				flexa::addForce(scene, sink, tri[k], f[k]);
 			return;
 		}
 		if (nodes[0] < 0) {
-			scene->forces.addForce(body, F);
-			scene->forces.addTorque(body, (c - axisPoint).cross(F));
+			flexa::addForce(scene, sink, body, F);
+			flexa::addTorque(scene, sink, body, (c - axisPoint).cross(F));
 			return;
 		}
 		flex::NodeLoad A, B;
 		flex::distributeToSegment(u, axisPoint, c, F, A, B);
-		scene->forces.addForce(nodes[0], A.F);
-		scene->forces.addTorque(nodes[0], A.M);
-		scene->forces.addForce(nodes[1], B.F);
-		scene->forces.addTorque(nodes[1], B.M);
+		flexa::addForce(scene, sink, nodes[0], A.F);
+		flexa::addTorque(scene, sink, nodes[0], A.M);
+		flexa::addForce(scene, sink, nodes[1], B.F);
+		flexa::addTorque(scene, sink, nodes[1], B.M);
 	}
 }
 
@@ -387,8 +387,9 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 	p.normalForce                    = r.normalForce;
 	p.shearForce                     = r.shearForce;
 	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
-	applySide(scene, I->getId1(), g.nodes1, g.tri1, g.u1, g.bary1, g.axis1, g.contactPoint, -F);
-	applySide(scene, I->getId2(), g.nodes2, g.tri2, g.u2, g.bary2, g.axis2, g.contactPoint, F);
+	const flexa::ForceSink* sink = flexa::currentSink(); // (set by FlexInteractionLoop on several threads)
+	applySide(scene, sink, I->getId1(), g.nodes1, g.tri1, g.u1, g.bary1, g.axis1, g.contactPoint, -F);
+	applySide(scene, sink, I->getId2(), g.nodes2, g.tri2, g.u2, g.bary2, g.axis2, g.contactPoint, F);
 	Real rollEnergy = 0;
 	const Real kr = rollingK(g, p);
 	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)
@@ -400,8 +401,8 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 		const Real     Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
 		const flex::CappedSpring rs = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
 		g.rollMoment = rs.value;
-		scene->forces.addTorque(I->getId1(), -rs.value);
-		scene->forces.addTorque(I->getId2(), rs.value);
+		flexa::addTorque(scene, sink, I->getId1(), -rs.value);
+		flexa::addTorque(scene, sink, I->getId2(), rs.value);
 		rollEnergy = rs.energy;
 		if (scene->trackEnergy && rs.dissipated != 0) flexa::addEnergy(scene, rs.dissipated, "flexRolling", rollIx, false);
 	}

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <exception>
 #include <mutex>
 #include <stdexcept>
@@ -116,6 +117,32 @@ namespace {
 	}
 }
 
+void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
+{
+	const long n = sums.f.empty() ? 0 : (long)sums.f[0].size();
+	if (n == 0) return;
+	ForceContainer& fc = scene->forces;
+	fc.addMaxId((Body::id_t)n - 1); // so that sync() sizes the sums to every body
+	fc.sync();
+	std::vector<Vector3r>*f = sums.f.data(), *t = sums.t.data();
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads)
+#endif
+	for (long id = 0; id < n; ++id) {
+		Vector3r F = f[0][id], T = t[0][id];
+		f[0][id]   = Vector3r::Zero();
+		t[0][id]   = Vector3r::Zero();
+		for (int k = 1; k < threads; ++k) {
+			F += f[k][id];
+			T += t[k][id];
+			f[k][id] = Vector3r::Zero();
+			t[k][id] = Vector3r::Zero();
+		}
+		if (F != Vector3r::Zero()) fc.addForceUnsynced((Body::id_t)id, F);
+		if (T != Vector3r::Zero()) fc.addTorqueUnsynced((Body::id_t)id, T);
+	}
+}
+
 void FlexInteractionLoop::action()
 {
 	InteractionContainer& ic = *scene->interactions;
@@ -123,6 +150,7 @@ void FlexInteractionLoop::action()
 	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
 	if (!prefetch || removeUnseen || !callbacks.empty() || loopOnSortedInteractions || blockSize < 1 || blockSize > kMaxBlock || !(ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)) {
 		usedFastPath    = false;
+		usedThreadSums  = false;
 		quickRejected   = 0;
 		quickCandidates = 0;
 		lastCandidates  = -1;
@@ -142,6 +170,7 @@ void FlexInteractionLoop::action()
 	quickCandidates = 0;
 	if (n == 0) {
 		lastCandidates = 0;
+		usedThreadSums = false;
 		return;
 	}
 	const shared_ptr<Interaction>* intrs = &ic[0];
@@ -213,11 +242,81 @@ void FlexInteractionLoop::action()
                 failed = true;
 	};
 
+	// The split of the blocks among the threads: by each block's time on the last step (a block
+	// new since then at the mean). The work is uneven along the container (the contacts of
+	// the settled fill first, the pairs made during the impact last, element contacts costing
+	// several times a sphere pair): split by count, the first of two threads took 0.8-1.2 ms longer
+	// than the second for a 2 ms loop; split by the counts of pairs visited and contacts, the second
+	// took 0.4-1.5 ms longer. (Timings set only which thread sums which forces: the forces are the
+	// same up to round-off, as with any split.)
+	bool weighted = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rejected, candidates)
+	weighted = threads > 1;
 #endif
-	for (long c = 0; c < nBlocks; ++c) {
+	Real dummyWeight = 0;
+	std::vector<Real> prefix; // prefix[c]: the weight of blocks 0..c-1
+	if (weighted) {
+		if ((long)blockWeight.size() != nBlocks) { // (a collider run changed the count: new blocks at the mean)
+			Real mean = 0;
+			for (Real w : blockWeight)
+				mean += w;
+			mean = blockWeight.empty() ? 1 : mean / blockWeight.size();
+			blockWeight.resize(nBlocks, mean);
+		}
+		prefix.resize(nBlocks + 1);
+		prefix[0] = 0;
+		for (long c = 0; c < nBlocks; ++c)
+			prefix[c + 1] = prefix[c] + blockWeight[c];
+	}
+	// the first block of part k of nt (k = nt: nBlocks)
+	auto blockAtWeight = [&](int k, int nt) -> long {
+		if (k <= 0) return 0;
+		if (k >= nt) return nBlocks;
+		if (!weighted) return nBlocks * k / nt;
+		const Real w = prefix[nBlocks] * k / nt;
+		return std::lower_bound(prefix.begin(), prefix.end(), w) - prefix.begin();
+	};
+
+	// several threads: the yade-flex law's forces into each thread's own sums (flexa::ThreadForceSums)
+	int nSums = 0;
+#ifdef YADE_OPENMP
+	if (threadSums && threads > 1) nSums = threads;
+#endif
+	if (nSums) sums.prepare(nSums, bodies.n);
+	usedThreadSums = nSums > 0;
+
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates)
+#endif
+	{
+	flexa::ForceSink      sink;
+#ifdef YADE_OPENMP
+	if (nSums) sink = sums.sink(omp_get_thread_num());
+#endif
+	flexa::ForceSinkScope sinkScope(nSums ? &sink : nullptr);
+	// each thread one contiguous run of blocks, of about equal work by the last step's weights
+	// (blockAtWeight): handed out one by one (dynamic), the two threads of the 2-vCPU VM worked
+	// on neighbouring blocks, and the loop took 1.2x longer (bench/README.md, "Two threads")
+	long cBegin = 0, cEnd = nBlocks;
+#ifdef YADE_OPENMP
+	{
+		const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
+		cBegin       = blockAtWeight(tid, nt);
+		cEnd         = blockAtWeight(tid + 1, nt);
+	}
+#endif
+	for (long c = cBegin; c < cEnd; ++c) {
 		if (failed) continue;
+		const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+		struct BlockTimer { // this block's time, for the next step's split (on every way out of the block)
+			bool                                  on;
+			std::chrono::steady_clock::time_point t0;
+			Real&                                 w;
+			~BlockTimer()
+			{
+				if (on) w = std::chrono::duration<Real>(std::chrono::steady_clock::now() - t0).count();
+			}
+		} blockTimer { weighted, blockStart, weighted ? blockWeight[c] : dummyWeight };
 		const long lo = c * block, hi = std::min(n, lo + block);
 		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
 		// are left (not marked unreachable), in their order
@@ -309,6 +408,8 @@ void FlexInteractionLoop::action()
 			}
 		}
 	}
+	} // omp parallel
+	if (nSums) flexa::mergeThreadSums(scene, sums, nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
 	quickRejected   = rejected;
 	quickCandidates = candidates;
 	lastCandidates  = apart.readers ? candidates : -1; // (not counted: count on the next step)

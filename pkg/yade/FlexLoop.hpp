@@ -29,6 +29,13 @@
 // Prefetches never fault, and only interactions of the thread's own block are read ahead (no
 // data race with the thread that owns the next block).
 //
+// On several threads, each thread takes one contiguous run of blocks, the runs split so that each
+// thread's blocks took about as long on the last step; and (threadSums) the yade-flex contact law
+// adds its forces to the thread's own per-body sums (flexa::ThreadForceSums), added to the
+// ForceContainer once per body after the loop, instead of ForceContainer::addForce per contact,
+// whose writes to fields shared by all threads made two threads slower than one on the 2-vCPU VM
+// of 2026-12-02 (bench/README.md, "Two threads"). One thread runs exactly as before.
+//
 // Steps the fast path does not cover run InteractionLoop::action unchanged: interaction
 // callbacks, loopOnSortedInteractions, and the steps on which the collider asks for unseen
 // interactions to be removed (an exception thrown by a functor there still terminates YADE, as
@@ -40,6 +47,7 @@
 // that returns false on a real interaction is not printed (the interaction is reset all the same).
 #pragma once
 #include "FlexPch.hpp"
+#include "FlexForces.hpp"
 
 #include <core/InteractionLoop.hpp>
 
@@ -65,6 +73,10 @@ private:
 	// functor or none cached yet); -1: not counted yet. The table is made only when this is not 0
 	// (a net of wires has no sphere pairs: making the table for nothing cost it 5 us of a 35 us step)
 	long lastCandidates = -1;
+	// the threads' own sums of the contact forces (threadSums, several threads)
+	flexa::ThreadForceSums sums;
+	// the work of each block of interactions on the last step, for the split among threads
+	std::vector<Real> blockWeight;
 
 public:
 	void action() override;
@@ -72,10 +84,12 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexInteractionLoop, InteractionLoop,
 		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/FlexLoop.hpp.",
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
-		((int, blockSize, 256, , "Interactions per block of the parallel loop (blocks are handed out dynamically; prefetching stays inside a block) [-]"))
+		((int, blockSize, 256, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache [-]"))
 		((Vector3i, ahead, Vector3i(12, 6, 3), , "Prefetch distances [iterations]: interaction objects (pass 1), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
 		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
+		((bool, threadSums, true, , "On the prefetching loop with several threads, each thread sums the forces of the yade-flex contact law in its own arrays, added to O.forces once per body after the loop (flexa::ThreadForceSums: ForceContainer.addForce from two threads at once contends for shared cache lines); False: addForce per contact (for comparisons). Same forces up to round-off; one thread never uses them."))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))
+		((bool, usedThreadSums, false, Attr::readonly, "Whether the last step summed the yade-flex contact forces per thread (threadSums, several threads)"))
 		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step [-]"))
 		((long, quickCandidates, 0, Attr::readonly, "Pairs quickReject could judge on the last step: no contact, and Ig2_Sphere_Sphere_FlexContactGeom or no functor yet (the table of centres is made on the next step only if this is not 0) [-]"))
 	);

@@ -13,7 +13,7 @@ from yade.wrapper import ElastMat, FlexInteractionLoop, InteractionLoop
 
 import yadeflex as yf
 import yadeflex.scenes as S
-from yadeflex.module import ModuleParams, filled_module, add_boulder
+from module_state import reduced_impact
 
 
 def _state_hash():
@@ -34,14 +34,7 @@ def _loop():
 def impact_state():
     """The reduced module a few hundred steps into its impact, saved in memory."""
     O.reset()
-    p = ModuleParams.small()
-    ids, _, _ = filled_module(p)
-    bid = add_boulder(p, ids)
-    O.engines = p.engines(0.0)
-    O.trackEnergy = True
-    while O.forces.f(bid).norm() == 0:
-        O.run(50, True)
-    O.run(200, True)  # contacts under load
+    bid, _ = reduced_impact()
     O.saveTmp("loop")
     yield bid
     O.reset()

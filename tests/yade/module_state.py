@@ -1,0 +1,20 @@
+"""The reduced damping module under load, shared by tests that compare settings on one state
+(test_loop.py in-process, scripts/sums_threads_scene.py in yade-double -j2)."""
+from yade import O
+
+from yadeflex.module import ModuleParams, filled_module, add_boulder
+
+
+def reduced_impact(steps_after_contact=200):
+    """On O: the reduced module (filled, or loaded from the cache) with its boulder and the main
+    job's engines without damping, energies tracked, run until the boulder touches and then
+    `steps_after_contact` steps (contacts under load). Returns the boulder's id."""
+    p = ModuleParams.small()
+    ids, _, _ = filled_module(p)
+    bid = add_boulder(p, ids)
+    O.engines = p.engines(0.0)
+    O.trackEnergy = True
+    while O.forces.f(bid).norm() == 0:
+        O.run(50, True)
+    O.run(steps_after_contact, True)
+    return bid, ids
