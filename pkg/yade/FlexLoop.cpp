@@ -280,7 +280,7 @@ void FlexInteractionLoop::action()
 	// several threads: the yade-flex law's forces into each thread's own sums (flexa::ThreadForceSums)
 	int nSums = 0;
 #ifdef YADE_OPENMP
-	if (threadSums && threads > 1) nSums = threads;
+	if (threadSums && threads > 1 && n >= threadSumsMin) nSums = threads;
 #endif
 	if (nSums) sums.prepare(nSums, bodies.n);
 	usedThreadSums = nSums > 0;

@@ -17,6 +17,7 @@ for name, sums, pmin in (("reference", False, 10**9), ("sums", True, 1), ("sums_
     loop = [e for e in O.engines if e.label == "interactionLoop"][0]
     elem = [e for e in O.engines if e.label == "flexElements"][0]
     loop.threadSums = sums
+    loop.threadSumsMin = 0  # (the reduced module has fewer interactions than the default minimum)
     if pmin is not None:
         elem.parallelMin = pmin
     for _ in range(3):  # (the loop's split among threads uses the last step's block times)
