@@ -115,7 +115,7 @@ def main():
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
     t_wall = time.time()
-    print(f"damping module: {p.n_modules} x {p.diameter} m x {p.height} m{' with a boundary rope' if p.with_rope() else ''}, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s")
+    print(f"damping module: {p.n_modules} x {p.diameter} m x {p.height} m{' with a boundary rope' if p.with_rope() else ''}, {p.fill} fill, {p.boulder_mass} kg {p.boulder_shape} at {p.impact_speed():.2f} m/s, {O.numThreads} thread(s)")
 
     last = {}  # stage -> (wall time, kinetic energy) at its last report
 
@@ -302,7 +302,7 @@ def main():
         energy_end={k: last.get(k, 0.0) for k in keys},
         energy_residual_max_fraction=resid,
         numerical_damping_share=(last.get("nonviscDamp", 0.0) / e_impact),
-        run_time_s=wall_t, fill_time_s=t_fill, filled_from_cache=cached, impact_steps=O.iter - iter0, dt_end=O.dt,
+        threads=O.numThreads, run_time_s=wall_t, fill_time_s=t_fill, filled_from_cache=cached, impact_steps=O.iter - iter0, dt_end=O.dt,
         time_per_step_us=1e6 * (wall_t - t_fill) / max(1, O.iter - iter0),
         engine_share=timing, status=status)
     with open(os.path.join(out, "summary.json"), "w") as f:

@@ -210,3 +210,25 @@ def test_impact_settings_share_one_fill():
         assert ModuleParams(**kw).fill_key() == base, kw
     for kw in (dict(grain_max=0.05), dict(seed=2), dict(settle_damping=0.5), dict(lining=False), dict(diameter=0.8)):
         assert ModuleParams(**kw).fill_key() != base, kw
+
+
+def test_run_script_passes_threads_to_yade(small_run):
+    """scripts/run --threads N runs the impact on N OpenMP threads (yade-double -j N) and the
+    summary says how many; a count that is not a whole number of at least 1 is refused before
+    anything runs. Two threads close the energy balance as one does (the 2% of the issue)."""
+    base, _, r2 = small_run
+    run = os.path.join(REPO, "scripts", "run")
+    env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "py"))
+    r = subprocess.run(["bash", run, str(base / "j2"), "--small", "--no-vtk", "--cache-dir", str(base / "cache"), "--threads", "2"],
+                       capture_output=True, text=True, timeout=900, env=env, cwd=REPO)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    assert "2 thread(s)" in r.stdout
+    s2 = json.load(open(base / "j2" / "summary.json"))
+    s1 = json.load(open(base / "b" / "summary.json"))
+    assert s1["threads"] == 1 and s2["threads"] == 2
+    assert s2["filled_from_cache"] and s2["status"] == s1["status"]
+    assert abs(s2["energy_residual_max_fraction"]) < 0.02
+    for bad in ("0", "00", "two", "-1"):
+        r = subprocess.run(["bash", run, str(base / "bad"), "--small", "--threads", bad], capture_output=True, text=True, timeout=300, env=env, cwd=REPO)
+        assert r.returncode == 1 and "--threads must be a whole number" in r.stderr, (bad, r.stderr[-2000:])
+        assert not (base / "bad" / "summary.json").exists()
