@@ -313,7 +313,9 @@ def settle_fill(params, r_in, rnd, progress=None):
             angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
             i.phys.tangensOfFrictionAngle = math.tan(min(angles))
     O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
+    if progress:
+        progress("fill, with friction", 0, float("nan"), ke_tol)
+    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, with friction", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
     # trim: keep the grains wholly below the module's height
     for g in list(grains):
         b = O.bodies[g]
@@ -377,6 +379,8 @@ def build_filled(params, progress=None):
     # this damping; stopped on the kinetic energy the cached fill had no grain touching the
     # lining and sank 2.5 mm once released without damping (bench/fill_equilibrium.py,
     # 2026-11-23). The unbalanced force holds it until the fill bears on the lining.
+    if progress:
+        progress("structure (mesh, rings, lining) on the fill", 0, float("nan"), 10 * ke_tol)
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke, tol: progress("structure", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
     ids = dict(per[0], wall=wall, grains=grains, modules=per, rope=rope["cylinders"], rope_nodes=rope["nodes"],
                base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
