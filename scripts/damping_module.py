@@ -119,20 +119,19 @@ def main():
 
     last = {}  # stage -> (wall time, kinetic energy) at its last report
 
-    printed = [time.time()]  # wall time of the last line
+    printed = dict(at=t_wall, stages=0)  # wall time of the last line, stages started
 
     def prog(stage, steps, ke, target):
         now = time.time()
         if steps == 0:
-            note = " (filled once, then cached)" if not last else ""
+            note = " (filled once, then cached)" if printed["stages"] == 0 else ""
             print(f"  {stage}: settles until the kinetic energy is below {target:.3g} J{note}, {now - t_wall:.0f} s", flush=True)
-            printed[0] = now
-            last.setdefault("", (now, ke))  # (the first stage has started)
+            printed.update(at=now, stages=printed["stages"] + 1)
             return
         # every 10,000 steps, and at least every 30 s (a fill of seven modules takes 40 s or more per 10,000)
-        if steps % 10000 and now - printed[0] < 30:
+        if steps % 10000 and now - printed["at"] < 30:
             return
-        printed[0] = now
+        printed["at"] = now
         # time left in this stage, from the exponential decay of the kinetic energy since the
         # last report (the stages that also wait for the unbalanced force may take longer)
         eta = ""

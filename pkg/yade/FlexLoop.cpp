@@ -253,7 +253,6 @@ void FlexInteractionLoop::action()
 #ifdef YADE_OPENMP
 	weighted = threads > 1;
 #endif
-	Real dummyWeight = 0;
 	std::vector<Real> prefix; // prefix[c]: the weight of blocks 0..c-1
 	if (weighted) {
 		if ((long)blockWeight.size() != nBlocks) { // (a collider run changed the count: new blocks at the mean)
@@ -308,15 +307,6 @@ void FlexInteractionLoop::action()
 	for (long c = cBegin; c < cEnd; ++c) {
 		if (failed) continue;
 		const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
-		struct BlockTimer { // this block's time, for the next step's split (on every way out of the block)
-			bool                                  on;
-			std::chrono::steady_clock::time_point t0;
-			Real&                                 w;
-			~BlockTimer()
-			{
-				if (on) w = std::chrono::duration<Real>(std::chrono::steady_clock::now() - t0).count();
-			}
-		} blockTimer { weighted, blockStart, weighted ? blockWeight[c] : dummyWeight };
 		const long lo = c * block, hi = std::min(n, lo + block);
 		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
 		// are left (not marked unreachable), in their order
@@ -407,6 +397,8 @@ void FlexInteractionLoop::action()
 				fail(std::current_exception());
 			}
 		}
+		if (weighted) // this block's time, for the next step's split
+			blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
 	}
 	} // omp parallel
 	if (nSums) flexa::mergeThreadSums(scene, sums, nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
