@@ -193,6 +193,12 @@ public:
 	{
 		return go(s1, s2, st1, st2, sh, f, I);
 	}
+	/// What go() does to a contact's geometry from the two spheres' radii, centres (x2 with the
+	/// periodic shift added) and velocities, once it has decided the contact goes on (isNew: g was
+	/// just made). FlexInteractionLoop calls it directly for existing contacts, from its table of
+	/// the spheres' centres and motion, without reading their bodies, states and shapes.
+	static void update(const Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2, const Vector3r& vel1,
+	                   const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2);
 	// clang-format off
 	YADE_CLASS_BASE_DOC(Ig2_Sphere_Sphere_FlexContactGeom, IGeomFunctor, "Sphere - sphere contact as a :yref:`FlexContactGeom` (both sides rigid), so that granular fill uses the same frictional law and energy booking as the element contacts (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack`: friction dissipation consistent with the leap-frog, shear energy released at separation booked). Periodic cells are not supported.");
 	// clang-format on
@@ -204,6 +210,10 @@ REGISTER_SERIALIZABLE(Ig2_Sphere_Sphere_FlexContactGeom);
 class Law2_FlexContactGeom_FrictPhys_CundallStrack : public LawFunctor {
 public:
 	bool go(shared_ptr<IGeom>&, shared_ptr<IPhys>&, Interaction*) override;
+	/// go() on the contact's geometry and physics; angVel1/angVel2: the angular velocities of
+	/// the two bodies if the caller has them (FlexInteractionLoop's table of sphere motion), else
+	/// null (read from the bodies' states; only rolling resistance reads them)
+	bool apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2);
 	/// Rolling stiffness kr of this contact (0: none; only sphere-sphere contacts roll) [N m].
 	Real rollingK(const FlexContactGeom& g, const FrictPhys& p) const;
 	// clang-format off

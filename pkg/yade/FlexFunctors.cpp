@@ -27,7 +27,7 @@ namespace {
 	// Sphere contacts: the elements beaten in the sphere's cluster (their contacts with
 	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
 	// flexa::ownsPair).
-	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const shared_ptr<Interaction>& I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
+	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const Interaction* I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
 	                const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
 	{
 		const bool wasActive = g.lastActiveIter == scene->iter - 1;
@@ -90,7 +90,7 @@ bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
 	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - P);
 	const Vector3r v2  = flex::segmentPointVelocity(ps.u, ps.point, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId1(), beaten, nb);
+	finishGeom(scene, g, own, I.get(), I->getId1(), beaten, nb);
 	return true;
 }
 
@@ -142,7 +142,7 @@ bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, -1, nullptr, 0, beaten, nPairs);
+	finishGeom(scene, g, own, I.get(), -1, nullptr, 0, beaten, nPairs);
 	return true;
 }
 
@@ -225,7 +225,7 @@ bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
 	const Vector3r v1   = st1.vel + st1.angVel.cross(g.contactPoint - P);
 	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, flex::cappedFacetOffset(fn.x, g.contactPoint - pt.point));
 	g.relVel            = v2 - v1;
-	finishGeom(scene, g, own, I, I->getId1(), beaten, nb);
+	finishGeom(scene, g, own, I.get(), I->getId1(), beaten, nb);
 	return true;
 }
 
@@ -279,7 +279,7 @@ bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
 	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
 	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
 	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I, -1, nullptr, 0, beaten, nPairs);
+	finishGeom(scene, g, own, I.get(), -1, nullptr, 0, beaten, nPairs);
 	return true;
 }
 
@@ -299,25 +299,31 @@ bool Ig2_Sphere_Sphere_FlexContactGeom::go(
 	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	if (scene->isPeriodic) throw std::runtime_error("Ig2_Sphere_Sphere_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
 	const Real     R1 = static_cast<const Sphere&>(*cm1).radius, R2 = static_cast<const Sphere&>(*cm2).radius;
-	const Vector3r x1 = st1.pos, x2 = st2.pos + shift2, d = x2 - x1;
-	const Real     dist = d.norm(), overlap = R1 + R2 - dist;
+	const Vector3r x2    = st2.pos + shift2;
 	const bool     isNew = !I->geom;
-	if (isNew && overlap <= 0 && !force) return false;
+	if (isNew && !force && R1 + R2 - (x2 - st1.pos).norm() <= 0) return false; // (the overlap as update computes it)
 	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	g.normal           = dist > 0 ? Vector3r(d / dist) : (isNew ? Vector3r(Vector3r::UnitZ()) : Vector3r(g.normal));
-	g.penetrationDepth = overlap;
-	g.refR1            = R1;
-	g.refR2            = R2;
-	g.contactPoint     = x1 + (R1 - 0.5 * overlap) * g.normal;
-	g.axis1            = x1;
-	g.axis2            = x2;
-	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - x1);
-	const Vector3r v2  = st2.vel + st2.angVel.cross(g.contactPoint - x2);
-	g.relVel           = v2 - v1;
-	// no element: the contact is always its own owner (separation ends it, see finishGeom)
-	finishGeom(scene, g, overlap > 0, I, -1, nullptr, 0);
+	update(scene, static_cast<FlexContactGeom&>(*I->geom), isNew, R1, R2, st1.pos, x2, st1.vel, st1.angVel, st2.vel, st2.angVel);
 	return true;
+}
+
+void Ig2_Sphere_Sphere_FlexContactGeom::update(const Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2,
+                                               const Vector3r& vel1, const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2)
+{
+	const Vector3r d    = x2 - x1;
+	const Real     dist = d.norm(), overlap = R1 + R2 - dist;
+	g.normal            = dist > 0 ? Vector3r(d / dist) : (isNew ? Vector3r(Vector3r::UnitZ()) : Vector3r(g.normal));
+	g.penetrationDepth  = overlap;
+	g.refR1             = R1;
+	g.refR2             = R2;
+	g.contactPoint      = x1 + (R1 - 0.5 * overlap) * g.normal;
+	g.axis1             = x1;
+	g.axis2             = x2;
+	const Vector3r v1   = vel1 + angVel1.cross(g.contactPoint - x1);
+	const Vector3r v2   = vel2 + angVel2.cross(g.contactPoint - x2);
+	g.relVel            = v2 - v1;
+	// no element: the contact is always its own owner (separation ends it, see finishGeom)
+	finishGeom(const_cast<Scene*>(scene), g, overlap > 0, nullptr, -1, nullptr, 0);
 }
 
 namespace {
@@ -353,8 +359,11 @@ namespace {
 
 bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
 {
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*ig);
-	FrictPhys&       p = static_cast<FrictPhys&>(*ip);
+	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I, nullptr, nullptr);
+}
+
+bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2)
+{
 	const bool track = scene->trackEnergy && p.ks > 0;
 	if (!g.active) {
 		// Writes nothing to the interaction: a neighbour may take over this contact's shear
@@ -393,10 +402,11 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 	Real rollEnergy = 0;
 	const Real kr = rollingK(g, p);
 	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)
-		const Scene*   sc  = scene;
-		const State&   s1  = *Body::byId(I->getId1(), const_cast<Scene*>(sc))->state;
-		const State&   s2  = *Body::byId(I->getId2(), const_cast<Scene*>(sc))->state;
-		const Vector3r dw  = s2.angVel - s1.angVel;
+		if (!angVel1 || !angVel2) {
+			angVel1 = &Body::byId(I->getId1(), scene)->state->angVel;
+			angVel2 = &Body::byId(I->getId2(), scene)->state->angVel;
+		}
+		const Vector3r dw  = *angVel2 - *angVel1;
 		const Vector3r dth = (dw - n.dot(dw) * n) * scene->dt;
 		const Real     Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
 		const flex::CappedSpring rs = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);

@@ -37,10 +37,12 @@ namespace {
 	// What the loop and the contact functors read, whole: the interaction, the bodies (id, flags,
 	// shape, state, material, clumpId), their states and shapes, the contact's geom and phys
 	// (176, 320, 104, 352 and 104 bytes for Body, State, Sphere, FlexContactGeom, FrictPhys).
-	inline void fetchTargets(const Interaction* I, const Bodies& b)
+	inline void fetchTargets(const Interaction* I, const Bodies& b, bool fused)
 	{
-		if (Body* b1 = b.get(I->getId1())) flexa::prefetch(b1, sizeof(Body));
-		if (Body* b2 = b.get(I->getId2())) flexa::prefetch(b2, sizeof(Body));
+		if (!fused) {
+			if (Body* b1 = b.get(I->getId1())) flexa::prefetch(b1, sizeof(Body));
+			if (Body* b2 = b.get(I->getId2())) flexa::prefetch(b2, sizeof(Body));
+		}
 		if (const IGeom* g = I->geom.get()) flexa::prefetch(g, sizeof(FlexContactGeom)); // (the largest geom of the module's contacts)
 		if (const IPhys* p = I->phys.get()) flexa::prefetch(p, sizeof(FrictPhys));
 	}
@@ -107,6 +109,32 @@ namespace {
 		}
 	};
 
+	// Whether a contact takes the fused path (fuseSpheres): it exists (geom and phys), and its cached
+	// functors are the sphere-sphere geometry, Ip2_FrictMat_FrictMat_FrictPhys (which returns at
+	// once when the physics exists) and the yade-flex law, each of exactly that class (a subclass
+	// could override go); its bodies are plain spheres in this step's table. The generic path would
+	// then call exactly Ig2_Sphere_Sphere_FlexContactGeom::update and the law's apply, on the same
+	// values read from the bodies' states and shapes instead of the table.
+	struct Fusable {
+		const std::vector<const IGeomFunctor*>*   geoms = nullptr; // the sphere-sphere functors (null: fuseSpheres off)
+		const IPhysFunctor*                       phys  = nullptr;
+		const LawFunctor*                         law   = nullptr;
+		const FlexInteractionLoop::SpherePoint*   p     = nullptr; // this step's table (null: not made)
+		long                                      n     = 0;
+		// 0: not fusable; 1: fusable but not on this step (no table, or a body not a plain sphere); 2: fused
+		int operator()(const Interaction& I) const
+		{
+			if (!geoms || !law || !phys || !I.geom || !I.phys) return 0;
+			const auto& c = I.functorCache;
+			if (!c.geomExists || c.constLaw.get() != law || c.phys.get() != phys) return 0;
+			if (std::find(geoms->begin(), geoms->end(), c.geom.get()) == geoms->end()) return 0;
+			if (!p) return 1;
+			const Body::id_t i1 = I.getId1(), i2 = I.getId2();
+			if (i1 < 0 || i2 < 0 || i1 >= n || i2 >= n || p[i1].r < 0 || p[i2].r < 0) return 1;
+			return 2;
+		}
+	};
+
 	inline void fetchStates(const Interaction* I, const Bodies& b)
 	{
 		for (Body::id_t id : { I->getId1(), I->getId2() })
@@ -153,7 +181,9 @@ void FlexInteractionLoop::action()
 		usedThreadSums  = false;
 		quickRejected   = 0;
 		quickCandidates = 0;
+		fusedContacts   = 0;
 		lastCandidates  = -1;
+		lastFusable     = -1;
 		InteractionLoop::action();
 		return;
 	}
@@ -168,8 +198,10 @@ void FlexInteractionLoop::action()
 	const long n = (long)ic.size();
 	quickRejected   = 0;
 	quickCandidates = 0;
+	fusedContacts   = 0;
 	if (n == 0) {
 		lastCandidates = 0;
+		lastFusable    = 0;
 		usedThreadSums = false;
 		return;
 	}
@@ -197,23 +229,45 @@ void FlexInteractionLoop::action()
 		}
 	}
 	const Marked marked(scene, &markReaders);
+	Fusable      fusable;
+	if (fuseSpheres && !sphereReaders.empty() && !scene->isPeriodic) {
+		for (const auto& f : physDispatcher->functors)
+			if (f && typeid(*f) == typeid(Ip2_FrictMat_FrictMat_FrictPhys)) {
+				fusable.phys = f.get();
+				break;
+			}
+		for (const auto& f : lawDispatcher->functors)
+			if (f && typeid(*f) == typeid(Law2_FlexContactGeom_FrictPhys_CundallStrack)) {
+				fusable.law = f.get();
+				break;
+			}
+		if (fusable.phys && fusable.law) fusable.geoms = &sphereReaders;
+	}
+	Law2_FlexContactGeom_FrictPhys_CundallStrack* const fusedLaw
+	        = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
 #ifdef YADE_OPENMP
 	const int threads = ompThreads > 0 ? std::min(ompThreads, omp_get_max_threads()) : omp_get_max_threads();
 #endif
-	// this step's table of sphere centres and radii, for quickReject (its functor throws in
-	// periodic scenes: not used there)
+	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres; the
+	// sphere functor throws in periodic scenes: not used there)
 	Apart apart;
 	if (quickReject && !sphereReaders.empty() && !scene->isPeriodic) apart.readers = &sphereReaders;
-	if (apart.readers && lastCandidates != 0) {
+	if ((apart.readers && lastCandidates != 0) || (fusable.geoms && lastFusable != 0)) {
 		spherePoints.resize(bodies.n);
-		SpherePoint* pts = spherePoints.data();
-		const long   nb  = bodies.n;
+		sphereMotion.resize(bodies.n);
+		SpherePoint*  pts = spherePoints.data();
+		SphereMotion* mot = sphereMotion.data();
+		const long    nb  = bodies.n;
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads) if (nb >= 8192)
 #endif
 		for (long id = 0; id < nb; ++id) {
-			flexa::prefetchBodiesAhead(bodies.p, nb, id, [](const Body& c) { // (of the state, only the line(s) of pos)
-				if (const State* st = c.state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
+			flexa::prefetchBodiesAhead(bodies.p, nb, id, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
+				if (const State* st = c.state.get()) {
+					flexa::prefetch(&st->pos, sizeof(Vector3r));
+					flexa::prefetch(&st->vel, sizeof(Vector3r));
+					flexa::prefetch(&st->angVel, sizeof(Vector3r));
+				}
 				flexa::prefetch(c.shape.get(), sizeof(Sphere));
 			});
 			SpherePoint& q = pts[id];
@@ -227,11 +281,21 @@ void FlexInteractionLoop::action()
 			q.y = st->pos[1];
 			q.z = st->pos[2];
 			q.r = static_cast<const Sphere*>(sh)->radius;
+			mot[id].vel    = st->vel;
+			mot[id].angVel = st->angVel;
 		}
-		apart.p = pts;
-		apart.n = nb;
+		if (apart.readers) {
+			apart.p = pts;
+			apart.n = nb;
+		}
+		if (fusable.geoms) {
+			fusable.p = pts;
+			fusable.n = nb;
+		}
 	}
-	long rejected = 0, candidates = 0;
+	const SpherePoint*  pts = fusable.p;
+	const SphereMotion* mot = fusable.p ? sphereMotion.data() : nullptr;
+	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0;
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
@@ -285,7 +349,7 @@ void FlexInteractionLoop::action()
 	usedThreadSums = nSums > 0;
 
 #ifdef YADE_OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates)
+#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates, nFusable, nFused)
 #endif
 	{
 	flexa::ForceSink      sink;
@@ -311,6 +375,7 @@ void FlexInteractionLoop::action()
 		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
 		// are left (not marked unreachable), in their order
 		long live[kMaxBlock];
+		bool fused[kMaxBlock]; // the fused path (fuseSpheres)
 		int  nLive = 0;
 		if (streamIn)
 			for (long k = lo; k < std::min(hi, lo + kFar); ++k)
@@ -327,17 +392,39 @@ void FlexInteractionLoop::action()
 					continue;
 				}
 			}
+			const int fz = fusable(J);
+			nFusable += fz > 0;
+			nFused += fz == 2;
+			fused[nLive]  = fz == 2;
 			live[nLive++] = i;
 		}
 		// pass 2: the live ones, with their bodies, geom and phys asked for kMid live
 		// interactions ahead and the bodies' states and shapes kNear ahead
+		// (a fused contact reads only its geom and phys, and the tables)
 		for (int j = 0; j < std::min(nLive, (int)kMid); ++j)
-			fetchTargets(intrs[live[j]].get(), bodies);
+			fetchTargets(intrs[live[j]].get(), bodies, fused[j]);
 		for (int j = 0; j < std::min(nLive, (int)kNear); ++j)
-			fetchStates(intrs[live[j]].get(), bodies);
+			if (!fused[j]) fetchStates(intrs[live[j]].get(), bodies);
 		for (int j = 0; j < nLive && !failed; ++j) {
-			if (j + kMid < nLive) fetchTargets(intrs[live[j + kMid]].get(), bodies);
-			if (j + kNear < nLive) fetchStates(intrs[live[j + kNear]].get(), bodies);
+			if (j + kMid < nLive) fetchTargets(intrs[live[j + kMid]].get(), bodies, fused[j + kMid]);
+			if (j + kNear < nLive && !fused[j + kNear]) fetchStates(intrs[live[j + kNear]].get(), bodies);
+			if (fused[j]) {
+				try {
+					// what the functors do for it (Fusable): the geometry's update, the physics
+					// functor returns at once, the law; shift2 is zero (not periodic)
+					const shared_ptr<Interaction>& I  = intrs[live[j]];
+					const Body::id_t                i1 = I->getId1(), i2 = I->getId2();
+					const SpherePoint &             a = pts[i1], &b = pts[i2];
+					FlexContactGeom&                g = static_cast<FlexContactGeom&>(*I->geom);
+					Ig2_Sphere_Sphere_FlexContactGeom::update(
+					        scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z), Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel,
+					        mot[i1].angVel, mot[i2].vel, mot[i2].angVel);
+					if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
+				} catch (...) {
+					fail(std::current_exception());
+				}
+				continue;
+			}
 			try {
 				const shared_ptr<Interaction>& I   = intrs[live[j]];
 				Body*                          b1_ = bodies.get(I->getId1());
@@ -404,6 +491,8 @@ void FlexInteractionLoop::action()
 	if (nSums) flexa::mergeThreadSums(scene, sums, nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
 	quickRejected   = rejected;
 	quickCandidates = candidates;
+	fusedContacts   = nFused;
+	lastFusable     = fusable.geoms ? nFusable : -1;
 	lastCandidates  = apart.readers ? candidates : -1; // (not counted: count on the next step)
 	if (error) std::rethrow_exception(error);
 }

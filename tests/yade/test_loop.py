@@ -2,7 +2,8 @@
 give the same results as InteractionLoop, bit for bit at one thread (the same functor calls in
 the same order), on a scene with every kind of contact: the reduced damping module hit by its
 clumped boulder (grains, wires, rings, lining facets, the slab, pairs the time stepper marks as
-unreachable, sphere pairs left out by quickReject, collider runs, contacts starting and ending). And a pair nobody can handle raises
+unreachable, sphere pairs left out by quickReject, sphere contacts run by the fused path
+(fuseSpheres), collider runs, contacts starting and ending). And a pair nobody can handle raises
 a Python exception instead of terminating YADE."""
 import hashlib
 import struct
@@ -52,14 +53,15 @@ def _run_from_saved(steps=400, engines=None, **attrs):
         for k, v in kv.items():
             setattr(e, k, v)
     fast = []
-    marked = rejected = 0
+    marked = rejected = fused = 0
     dt = [e for e in O.engines if e.label == "flexDt"][0]
     for _ in range(steps):
         O.step()
         fast.append(il.usedFastPath)
         marked = max(marked, len(dt.unreachablePairs()))
         rejected = max(rejected, il.quickRejected)
-    return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked, rejected
+        fused = max(fused, il.fusedContacts)
+    return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked, rejected, fused
 
 
 NO_PREFETCH = {"newton": {"prefetch": False}, "flexDt": {"prefetch": False}}
@@ -71,12 +73,16 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
     ref = _run_from_saved(prefetch=False, engines=NO_PREFETCH)
     assert not any(ref[3])  # InteractionLoop.action itself
     assert ref[2] > 100 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path)
-    for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False)):
+    assert ref[6] == 0
+    for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False),
+                  dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False)):
         got = _run_from_saved(**attrs)
         assert all(got[3]), attrs  # every step on the prefetching loop
         assert got[:3] == ref[:3], attrs
         # sphere pairs apart left out before their bodies are read (on by default)
         assert (got[5] > 100) if attrs.get("quickReject", True) else (got[5] == 0), attrs
+        # sphere contacts run by the fused path (on by default; about 100 of the 147 contacts here)
+        assert (got[6] > 80) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs
     assert _run_from_saved(prefetch=False)[:3] == ref[:3]  # the integrator's and stepper's alone
     assert [e for e in O.engines if e.label == "newton"][0].usedFastPath  # (where the integrator prefetches)
 
