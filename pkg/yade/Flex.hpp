@@ -197,7 +197,7 @@ public:
 	/// periodic shift added) and velocities, once it has decided the contact goes on (isNew: g was
 	/// just made). FlexInteractionLoop calls it directly for existing contacts, from its table of
 	/// the spheres' centres and motion, without reading their bodies, states and shapes.
-	static void update(const Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2, const Vector3r& vel1,
+	static void update(Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2, const Vector3r& vel1,
 	                   const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2);
 	// clang-format off
 	YADE_CLASS_BASE_DOC(Ig2_Sphere_Sphere_FlexContactGeom, IGeomFunctor, "Sphere - sphere contact as a :yref:`FlexContactGeom` (both sides rigid), so that granular fill uses the same frictional law and energy booking as the element contacts (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack`: friction dissipation consistent with the leap-frog, shear energy released at separation booked). Periodic cells are not supported.");

@@ -307,7 +307,7 @@ bool Ig2_Sphere_Sphere_FlexContactGeom::go(
 	return true;
 }
 
-void Ig2_Sphere_Sphere_FlexContactGeom::update(const Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2,
+void Ig2_Sphere_Sphere_FlexContactGeom::update(Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2,
                                                const Vector3r& vel1, const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2)
 {
 	const Vector3r d    = x2 - x1;
@@ -323,7 +323,7 @@ void Ig2_Sphere_Sphere_FlexContactGeom::update(const Scene* scene, FlexContactGe
 	const Vector3r v2   = vel2 + angVel2.cross(g.contactPoint - x2);
 	g.relVel            = v2 - v1;
 	// no element: the contact is always its own owner (separation ends it, see finishGeom)
-	finishGeom(const_cast<Scene*>(scene), g, overlap > 0, nullptr, -1, nullptr, 0);
+	finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
 }
 
 namespace {
