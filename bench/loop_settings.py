@@ -1,7 +1,7 @@
 # Benchmark: the collider's sweep and the interaction loop's quick rejection on the damping-module
 # impact (GPL-2.0-or-later).
 #
-#     yade-double -n -j1 -x bench/loop_settings.py [--small] [--rounds 3] [--window 600] [--warmup 200] [--settings 100:1 off:2 100:1:noqr 100:1:nofuse ...]
+#     yade-double -n -j1 -x bench/loop_settings.py [--small] [--rounds 3] [--window 600] [--warmup 200] [--settings 100:1 off:2 100:1:noqr 100:1:nofuse 100:1:nosums 100:1:norem ...]
 #
 # Why: a step of the impact costs the interaction loop (every potential pair the time stepper did
 # not mark unreachable is visited: bodies, shapes, states read), the collider, and the time
@@ -14,10 +14,15 @@
 # leaves out the sphere pairs that are apart from a table of centres and radii, before their
 # bodies are read (a setting ending in :noqr switches it off). FlexInteractionLoop.fuseSpheres runs
 # the existing sphere contacts from a table of the spheres' motion, without their bodies or the
-# functors' dispatch (:nofuse switches it off).
+# functors' dispatch (:nofuse switches it off). FlexInteractionLoop.threadSums sums the contact law's
+# forces in the loop's own arrays, added to O.forces once per body, with several threads only (:nosums
+# switches it off; at -j1 it changes nothing. Sums at one thread too were tried: 10,097 against
+# 10,231 us per step at -j1, 8 rounds of 300 steps, within the windows' scatter, so left out).
+# FlexInteractionLoop.rememberSkips leaves out the pairs of the two kinds above from a record of the
+# last steps, without reading their interaction objects (:norem switches it off).
 # What it does: the main job's impact (yadeflex.module.impact_start, the filled module from the
 # cache), stepped to 5 ms after first contact, kept with O.saveTmp; then for each setting, --rounds
-# times, interleaved: O.loadTmp, set targetInterv, verletDist, quickReject and fuseSpheres, --warmup steps, then
+# times, interleaved: O.loadTmp, set targetInterv, verletDist, quickReject, fuseSpheres, threadSums and rememberSkips, --warmup steps, then
 # --window steps timed (wall clock, and each engine's execTime). Medians over the rounds, and the
 # median of each setting's ratio to the first one within a round (paired: this VM's speed drifts
 # by 20% from minute to minute).
@@ -40,13 +45,15 @@ from machine import machine_line  # noqa: E402
 from yadeflex.module import ModuleParams, impact_start  # noqa: E402
 
 # (targetInterv, verletDist as a multiple of yadeflex.engines()'s default, half the wire radius,
-# quickReject, fuseSpheres)
-SETTINGS = [(100, 1.0, True, True), (100, 1.0, False, True), (100, 1.0, True, False), (100, 0.5, True, True), (100, 2.0, True, True),
-            (-1, 1.0, True, True), (-1, 2.0, True, True), (-1, 4.0, True, True)]
+# quickReject, fuseSpheres, threadSums, rememberSkips)
+SETTINGS = [(100, 1.0, True, True, True, True), (100, 1.0, False, True, True, True), (100, 1.0, True, False, True, True),
+            (100, 1.0, True, True, True, False), (100, 0.5, True, True, True, True), (100, 2.0, True, True, True, True),
+            (-1, 1.0, True, True, True, True), (-1, 2.0, True, True, True, True), (-1, 4.0, True, True, True, True)]
+FLAGS = ("noqr", "nofuse", "nosums", "norem")  # the switches of s[2:], in order
 
 
 def label(s):
-    return f"{s[0] if s[0] > 0 else 'off'}:{s[1]:g}" + ("" if s[2] else ":noqr") + ("" if s[3] else ":nofuse")
+    return f"{s[0] if s[0] > 0 else 'off'}:{s[1]:g}" + "".join("" if on else ":" + f for f, on in zip(FLAGS, s[2:]))
 
 
 def parse():
@@ -56,9 +63,10 @@ def parse():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--window", type=int, default=600, help="timed steps per window")
     ap.add_argument("--warmup", type=int, default=200, help="steps after each reload before timing")
-    ap.add_argument("--settings", nargs="+", default=None, metavar="TI:F[:noqr][:nofuse]",
+    ap.add_argument("--settings", nargs="+", default=None, metavar="TI:F[:noqr][:nofuse][:nosums][:norem]",
                     help="targetInterv:factor (targetInterv an integer > 0, or 'off' for -1; factor x the default verletDist; "
-                    ":noqr: FlexInteractionLoop.quickReject off; :nofuse: FlexInteractionLoop.fuseSpheres off); the first is the reference "
+                    ":noqr: FlexInteractionLoop.quickReject off; :nofuse: FlexInteractionLoop.fuseSpheres off; :nosums: FlexInteractionLoop.threadSums off; :norem: FlexInteractionLoop.rememberSkips off); "
+                    "the first is the reference "
                     "(default: %s)" % " ".join(label(s) for s in SETTINGS))
     a = ap.parse_args(sys.argv[me + 1:])
     if a.rounds < 1 or a.window < 1 or a.warmup < 0:
@@ -67,13 +75,13 @@ def parse():
         out = []
         for x in a.settings or []:
             f = x.split(":")
-            if len(f) < 2 or any(k not in ("noqr", "nofuse") for k in f[2:]) or len(set(f[2:])) != len(f[2:]):
+            if len(f) < 2 or any(k not in FLAGS for k in f[2:]) or len(set(f[2:])) != len(f[2:]):
                 raise ValueError(x)
-            out.append((-1 if f[0] == "off" else int(f[0]), float(f[1]), "noqr" not in f[2:], "nofuse" not in f[2:]))
+            out.append((-1 if f[0] == "off" else int(f[0]), float(f[1]), *(k not in f[2:] for k in FLAGS)))
         a.settings = out or SETTINGS
     except ValueError:
-        ap.error(f"--settings takes targetInterv:factor[:noqr][:nofuse] such as 100:1 off:2 100:1:noqr 100:1:nofuse, got {a.settings}")
-    if any(f <= 0 or t == 0 or t < -1 for t, f, _, _ in a.settings):
+        ap.error(f"--settings takes targetInterv:factor[:noqr][:nofuse][:nosums][:norem] such as 100:1 off:2 100:1:noqr 100:1:nofuse, got {a.settings}")
+    if any(f <= 0 or t == 0 or t < -1 for t, f, *_ in a.settings):
         ap.error("targetInterv must be positive or 'off', verletDist factors positive")
     return a
 
@@ -97,6 +105,8 @@ def main():
             il = next(e for e in O.engines if e.label == "interactionLoop")
             il.quickReject = s[2]
             il.fuseSpheres = s[3]
+            il.threadSums = s[4]
+            il.rememberSkips = s[5]
             O.run(a.warmup, True)
             O.timingEnabled = True
             for e in O.engines:
@@ -116,7 +126,7 @@ def main():
     for s in a.settings:
         med = {k: statistics.median(r[k] for r in runs[s]) for k in runs[s][0]}
         paired = statistics.median(r["us"] / q["us"] for r, q in zip(runs[s], runs[a.settings[0]]))
-        rows.append(dict(setting=label(s), target_interv=s[0], verlet_mm=1e3 * s[1] * v0, quick_reject=s[2], fuse_spheres=s[3], us_per_step=med["us"], vs_first=med["us"] / base,
+        rows.append(dict(setting=label(s), target_interv=s[0], verlet_mm=1e3 * s[1] * v0, quick_reject=s[2], fuse_spheres=s[3], thread_sums=s[4], remember_skips=s[5], us_per_step=med["us"], vs_first=med["us"] / base,
                          vs_first_paired=paired, windows=" ".join(f"{r['us']:.0f}" for r in runs[s]), **{k: v for k, v in med.items() if k != "us"}))
     out = os.path.join(os.path.dirname(BENCH), "bench", "results", "loop_settings" + ("_small" if a.small else "") + ".csv")
     os.makedirs(os.path.dirname(out), exist_ok=True)

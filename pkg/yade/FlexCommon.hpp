@@ -60,6 +60,7 @@ namespace flexa {
 	struct UnreachableMarks {
 		const Scene*                                   scene = nullptr;
 		std::vector<std::pair<Body::id_t, Body::id_t>> pair; // by Interaction::linIx; (-1, -1): none
+		unsigned long                                  generation = 0; // one more at each new set of marks
 	};
 	inline UnreachableMarks& unreachableMarks()
 	{

@@ -529,6 +529,7 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 	flexa::UnreachableMarks& marks = flexa::unreachableMarks();
 	if (mark) {
 		marks.scene = nullptr;
+		++marks.generation;
 		marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
 	}
 	// the defining points of a body (sphere centre, element nodes) and how far they may still

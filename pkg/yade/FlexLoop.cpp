@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -99,8 +100,12 @@ namespace {
 			const IGeomFunctor* f = I.functorCache.geom.get();
 			if (!f) return 1;
 			if (std::find(readers->begin(), readers->end(), f) == readers->end()) return 0;
+			return byIds(I.getId1(), I.getId2());
+		}
+		// the table's part: 1 or 2 as above, for a candidate of these ids
+		int byIds(Body::id_t i1, Body::id_t i2) const
+		{
 			if (!p) return 1;
-			const Body::id_t i1 = I.getId1(), i2 = I.getId2();
 			if (i1 < 0 || i2 < 0 || i1 >= n || i2 >= n) return 1;
 			const FlexInteractionLoop::SpherePoint &a = p[i1], &b = p[i2];
 			if (a.r < 0 || b.r < 0) return 1;
@@ -182,8 +187,10 @@ void FlexInteractionLoop::action()
 		quickRejected   = 0;
 		quickCandidates = 0;
 		fusedContacts   = 0;
+		recalledSkips   = 0;
 		lastCandidates  = -1;
 		lastFusable     = -1;
+		recScene        = nullptr; // (InteractionLoop may give any pair a geometry: the records start again)
 		InteractionLoop::action();
 		return;
 	}
@@ -199,6 +206,7 @@ void FlexInteractionLoop::action()
 	quickRejected   = 0;
 	quickCandidates = 0;
 	fusedContacts   = 0;
+	recalledSkips   = 0;
 	if (n == 0) {
 		lastCandidates = 0;
 		lastFusable    = 0;
@@ -258,21 +266,37 @@ void FlexInteractionLoop::action()
 		SpherePoint*  pts = spherePoints.data();
 		SphereMotion* mot = sphereMotion.data();
 		const long    nb  = bodies.n;
+		if (scene != sphereIdsScene || nb != sphereIdsBodies) { // the list of spheres, again
+			sphereIds.clear();
+			for (long id = 0; id < nb; ++id) {
+				pts[id].r     = -1;
+				const Body* b = bodies.p[id].get();
+				if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) sphereIds.push_back((Body::id_t)id);
+			}
+			sphereIdsScene  = scene;
+			sphereIdsBodies = nb;
+		}
+		// the listed bodies (each still checked: erased, or its shape replaced: r = -1)
+		const Body::id_t* ids = sphereIds.data();
+		const long        ns  = (long)sphereIds.size();
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) num_threads(threads) if (nb >= 8192)
+#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= 8192)
 #endif
-		for (long id = 0; id < nb; ++id) {
-			flexa::prefetchBodiesAhead(bodies.p, nb, id, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
-				if (const State* st = c.state.get()) {
-					flexa::prefetch(&st->pos, sizeof(Vector3r));
-					flexa::prefetch(&st->vel, sizeof(Vector3r));
-					flexa::prefetch(&st->angVel, sizeof(Vector3r));
+		for (long k = 0; k < ns; ++k) {
+			if (k + 16 < ns) flexa::prefetch(bodies.p[ids[k + 16]].get(), sizeof(Body));
+			if (k + 8 < ns)
+				if (const Body* c = bodies.p[ids[k + 8]].get()) { // (of the state, only the lines of pos, vel and angVel)
+					if (const State* st = c->state.get()) {
+						flexa::prefetch(&st->pos, sizeof(Vector3r));
+						flexa::prefetch(&st->vel, sizeof(Vector3r));
+						flexa::prefetch(&st->angVel, sizeof(Vector3r));
+					}
+					flexa::prefetch(c->shape.get(), sizeof(Sphere));
 				}
-				flexa::prefetch(c.shape.get(), sizeof(Sphere));
-			});
-			SpherePoint& q = pts[id];
-			q.r            = -1;
-			const Body* b  = bodies.p[id].get();
+			const Body::id_t id = ids[k];
+			SpherePoint&     q  = pts[id];
+			q.r                 = -1;
+			const Body* b       = bodies.p[id].get();
 			if (!b) continue;
 			const Shape* sh = b->shape.get();
 			const State* st = b->state.get();
@@ -295,7 +319,50 @@ void FlexInteractionLoop::action()
 	}
 	const SpherePoint*  pts = fusable.p;
 	const SphereMotion* mot = fusable.p ? sphereMotion.data() : nullptr;
-	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0;
+	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+
+	// rememberSkips: a new generation of records whenever what they were judged against changes.
+	// A sphere pair apart (kind 2) depends only on its interaction object (no contact, the sphere
+	// functor cached; the table is asked again each step), so its records last until the functors,
+	// quickReject, the scene or the container change; a marked pair (kind 1) also on the marks, so
+	// its records also end when the marks are made again or retired, or a collider runs.
+	Remembered* rec = nullptr;
+	if (rememberSkips) {
+		const unsigned long marksGen  = marked.valid ? flexa::unreachableMarks().generation : 0;
+		const bool          quick     = apart.readers != nullptr;
+		const bool          newQuick  = !same || scene != recScene || &ic != recContainer || quick != recQuick;
+		const bool          newMarked = newQuick || marked.valid != recMarksValid || marksGen != recMarks || ic.iterColliderLastRun != recColliderRun;
+		if (newQuick && (scene != recScene || &ic != recContainer)) held.clear(); // (let the old scene's objects go)
+		if (newMarked) {
+			const bool wrap = recGen > std::numeric_limits<unsigned>::max() - 2;
+			if (wrap) { // (no old record may match by chance)
+				remembered.assign(remembered.size(), Remembered());
+				recGen = 0;
+			}
+			genMarked = ++recGen;
+			if (newQuick || wrap) genQuick = ++recGen;
+			recScene       = scene;
+			recContainer   = &ic;
+			recMarksValid  = marked.valid;
+			recMarks       = marksGen;
+			recColliderRun = ic.iterColliderLastRun;
+			recQuick       = quick;
+		}
+		remembered.resize(n);
+		held.resize(n);
+		rec = remembered.data();
+	} else if (!remembered.empty()) {
+		remembered.clear();
+		held.clear();
+		recScene = nullptr;
+	}
+	const unsigned gen[3] = { 0, genMarked, genQuick }; // by kind
+	// whether pass 1 can leave out the pair at i from its record alone (kind 1 still asks whether
+	// its bodies exist, kind 2 the table)
+	auto recordOf = [&](long i) -> const Remembered* {
+		const Remembered& r = rec[i];
+		return (r.kind && r.gen == gen[r.kind] && r.ptr == intrs[i].get()) ? &r : nullptr;
+	};
 
 	std::exception_ptr error;
 	std::mutex         errorMutex;
@@ -349,7 +416,7 @@ void FlexInteractionLoop::action()
 	usedThreadSums = nSums > 0;
 
 #ifdef YADE_OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates, nFusable, nFused)
+#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled)
 #endif
 	{
 	flexa::ForceSink      sink;
@@ -377,21 +444,62 @@ void FlexInteractionLoop::action()
 		long live[kMaxBlock];
 		bool fused[kMaxBlock]; // the fused path (fuseSpheres)
 		int  nLive = 0;
+		// (the objects a record leaves out are not asked for)
+		auto streamAhead = [&](long k) {
+			if (!rec || !recordOf(k)) flexa::prefetch(intrs[k].get(), sizeof(Interaction));
+		};
 		if (streamIn)
 			for (long k = lo; k < std::min(hi, lo + kFar); ++k)
-				flexa::prefetch(intrs[k].get(), sizeof(Interaction));
+				streamAhead(k);
 		for (long i = lo; i < hi; ++i) {
-			if (streamIn && i + kFar < hi) flexa::prefetch(intrs[i + kFar].get(), sizeof(Interaction));
+			if (streamIn && i + kFar < hi) streamAhead(i + kFar);
+			if (rec)
+				if (const Remembered* r = recordOf(i)) {
+					if (r->kind == 1) {
+						if (bodies.get(r->id1) && bodies.get(r->id2)) {
+							++recalled;
+							continue;
+						}
+					} else if (apart.p) { // kind 2: what apart(J) would find, from the ids
+						++candidates;
+						if (apart.byIds(r->id1, r->id2) == 2) {
+							++rejected;
+							++recalled;
+							continue;
+						}
+						// the spheres close: to pass 2 (no contact yet, so not fusable), and read
+						// again on the next step
+						rec[i].kind   = 0;
+						fused[nLive]  = false;
+						live[nLive++] = i;
+						continue;
+					}
+				}
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
-			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) continue;
+			// remember a pair left out without its bodies (rememberSkips)
+			auto remember = [&](unsigned char kind) {
+				Remembered& r = rec[i];
+				r.ptr         = &J;
+				r.id1         = J.getId1();
+				r.id2         = J.getId2();
+				r.gen         = gen[kind];
+				r.kind        = kind;
+				if (held[i].get() != &J) held[i] = intrs[i];
+			};
+			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) {
+				if (rec) remember(1);
+				continue;
+			}
 			if (const int a = apart(J)) {
 				++candidates;
 				if (a == 2) {
 					++rejected;
+					if (rec) remember(2);
 					continue;
 				}
 			}
+			if (rec) rec[i].kind = 0;
 			const int fz = fusable(J);
 			nFusable += fz > 0;
 			nFused += fz == 2;
@@ -492,6 +600,7 @@ void FlexInteractionLoop::action()
 	quickRejected   = rejected;
 	quickCandidates = candidates;
 	fusedContacts   = nFused;
+	recalledSkips   = recalled;
 	lastFusable     = fusable.geoms ? nFusable : -1;
 	lastCandidates  = apart.readers ? candidates : -1; // (not counted: count on the next step)
 	if (error) std::rethrow_exception(error);

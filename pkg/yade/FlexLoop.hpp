@@ -19,11 +19,23 @@
 //     It also leaves out, with quickReject, the sphere-sphere pairs that have no contact and
 //     whose spheres are apart (the functor would return false before changing anything), judged
 //     from a table of the spheres' centres and radii (32 bytes per body, made at the start of the
-//     step from the bodies in id order): such a pair costs a lookup in a table that stays in cache
+//     step from the bodies that were spheres when the body container last changed size, in id
+//     order; every other entry stays r = -1, which sends a pair to its functor): such a pair costs a lookup in a table that stays in cache
 //     instead of reading two bodies, states and shapes scattered on the heap (on the damping
 //     module 5 ms into the impact: 4,900 of the 12,800 pairs left after the marks; bench/README.md);
 //     the table is made only on steps after one that had such pairs, or new pairs (so not on a
 //     wire net, which has none);
+//     With rememberSkips, a pair left out of either kind is remembered (its object's address,
+//     its ids, a generation), and on the next steps it is left out (or judged from the table)
+//     from that record of 24 bytes read in order, without its interaction object (3 cache lines
+//     at a scattered address): on the damping module 5 ms into the impact, 18,000 of the 25,400
+//     interactions on most steps, and the step 1.05-1.07x faster (bench/loop_settings.py, :norem,
+//     2026-12-03). A record holds while the object at its place in the container is the same
+//     (the record keeps it alive, so that no new one can take its address) and, for a sphere
+//     pair apart, while the functors, quickReject, the scene and the container stay the same
+//     (the table is asked each step); for a marked pair, also until the marks are made again or
+//     a collider runs. A marked pair whose spheres are apart is then counted as left out by
+//     quickReject (recorded so on the collider's step, when no marks hold);
 //  2. it runs the functors on the listed ones, asking for their bodies, geom and phys
 //     `ahead[1]` listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead.
 //     An existing sphere-sphere contact of the yade-flex law (fuseSpheres) is run as one call,
@@ -82,6 +94,12 @@ private:
 	std::vector<const IGeomFunctor*> sphereReaders;
 	std::vector<SpherePoint> spherePoints;
 	std::vector<SphereMotion> sphereMotion;
+	// the ids of the bodies that were plain Spheres when the body container last changed size (or
+	// the scene changed): the table is filled from these bodies only, every other entry keeps
+	// r = -1 (a body made a Sphere since then takes the full path, as any non-sphere)
+	std::vector<Body::id_t> sphereIds;
+	const Scene*            sphereIdsScene  = nullptr;
+	long                    sphereIdsBodies = -1;
 	// contacts the fused path could take on the last step (fuseSpheres; -1: not counted yet):
 	// the table is made when this or lastCandidates is not 0
 	long lastFusable = -1;
@@ -93,6 +111,27 @@ private:
 	flexa::ThreadForceSums sums;
 	// the work of each block of interactions on the last step, for the split among threads
 	std::vector<Real> blockWeight;
+	// rememberSkips: by index in the interaction container, what pass 1 found out about the pair
+	// there while it did not touch it (kind 1: marked unreachable; kind 2: a sphere pair without
+	// contact for quickReject; 0: nothing), valid while the object there is still `ptr` and `gen`
+	// is its kind's current generation (genMarked, genQuick; FlexLoop.cpp). `held` keeps each
+	// remembered object alive, so that no other interaction can take its address while the record
+	// names it.
+	struct Remembered {
+		const Interaction* ptr = nullptr;
+		Body::id_t         id1 = -1, id2 = -1;
+		unsigned           gen  = 0;
+		unsigned char      kind = 0;
+	};
+	std::vector<Remembered>              remembered;
+	std::vector<shared_ptr<Interaction>> held;
+	unsigned                             recGen = 0, genMarked = 0, genQuick = 0; // (records start at gen 0, kind 0)
+	// what the records were made against (a change starts a new generation)
+	const Scene*                recScene       = nullptr;
+	const InteractionContainer* recContainer   = nullptr;
+	unsigned long               recMarks       = 0;
+	long                        recColliderRun = 0;
+	bool                        recMarksValid = false, recQuick = false;
 
 public:
 	void action() override;
@@ -106,9 +145,11 @@ public:
 		((bool, fuseSpheres, true, , "On the prefetching loop, run an existing sphere-sphere contact (Ig2_Sphere_Sphere_FlexContactGeom, Ip2_FrictMat_FrictMat_FrictPhys, Law2_FlexContactGeom_FrictPhys_CundallStrack, two plain spheres) as one call from a table of the spheres' centres, radii, velocities and angular velocities made at the start of the step, without reading their bodies, states and shapes or calling the three functors through the dispatch; False: through the functors (for comparisons). Same results bit for bit."))
 		((bool, threadSums, true, , "On the prefetching loop with several threads and at least threadSumsMin interactions, each thread sums the forces of the yade-flex contact law in its own arrays, added to O.forces once per body after the loop (flexa::ThreadForceSums: ForceContainer.addForce from two threads at once contends for shared cache lines); False: addForce per contact (for comparisons). Same forces up to round-off; one thread never uses them."))
 		((long, threadSumsMin, 4096, , "Fewest interactions for threadSums: below, the few addForce calls contend little and adding the sums (a pass over every body, on every thread) costs more (the wire net of bench/profile_wire.py, 267 interactions: 20.3-20.4 against 22.1-23.6 us per step at -j2 with the sums; 20.5-21.4 against 20.7 with this minimum) [-]"))
+		((bool, rememberSkips, true, , "On the prefetching loop, remember for each pair left out without its bodies (marked unreachable, or a sphere pair of quickReject) that it was, and on the next steps, while the marks and the interaction at that place in the container stay the same, leave it out (or judge it from the table of centres) without reading its interaction object; False: every interaction object is read on every step (for comparisons). Same results bit for bit. Assumes that between collider runs nothing but this loop gives such a potential pair a geometry or physics (the container's insert, erase and clear are seen)."))
+		((long, recalledSkips, 0, Attr::readonly, "Pairs left out on the last step from rememberSkips' records, without reading their interaction objects [-]"))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))
 		((bool, usedThreadSums, false, Attr::readonly, "Whether the last step summed the yade-flex contact forces per thread (threadSums, several threads)"))
-		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step [-]"))
+		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step (with rememberSkips, also sphere pairs apart that are marked unreachable, when remembered from a step without marks) [-]"))
 		((long, fusedContacts, 0, Attr::readonly, "Sphere-sphere contacts run by the fused path (fuseSpheres) on the last step [-]"))
 		((long, quickCandidates, 0, Attr::readonly, "Pairs quickReject could judge on the last step: no contact, and Ig2_Sphere_Sphere_FlexContactGeom or no functor yet (the table of centres is made on the next step only if this is not 0) [-]"))
 	);

@@ -3,7 +3,8 @@ give the same results as InteractionLoop, bit for bit at one thread (the same fu
 the same order), on a scene with every kind of contact: the reduced damping module hit by its
 clumped boulder (grains, wires, rings, lining facets, the slab, pairs the time stepper marks as
 unreachable, sphere pairs left out by quickReject, sphere contacts run by the fused path
-(fuseSpheres), collider runs, contacts starting and ending). And a pair nobody can handle raises
+(fuseSpheres), pairs left out from rememberSkips' records without reading their interaction
+objects, collider runs, contacts starting and ending). And a pair nobody can handle raises
 a Python exception instead of terminating YADE."""
 import hashlib
 import struct
@@ -41,8 +42,9 @@ def impact_state():
     O.reset()
 
 
-def _run_from_saved(steps=400, engines=None, **attrs):
-    """attrs: of the interaction loop; engines: {label: {attr: value}} of other engines."""
+def _run_from_saved(steps=400, engines=None, between=None, **attrs):
+    """attrs: of the interaction loop; engines: {label: {attr: value}} of other engines;
+    between: {step: f}, f() called after that many steps."""
     O.loadTmp("loop")
     il = _loop()
     assert isinstance(il, FlexInteractionLoop)
@@ -53,15 +55,18 @@ def _run_from_saved(steps=400, engines=None, **attrs):
         for k, v in kv.items():
             setattr(e, k, v)
     fast = []
-    marked = rejected = fused = 0
+    marked = rejected = fused = recalled = 0
     dt = [e for e in O.engines if e.label == "flexDt"][0]
-    for _ in range(steps):
+    for k in range(steps):
+        if between and k in between:
+            between[k]()
         O.step()
         fast.append(il.usedFastPath)
         marked = max(marked, len(dt.unreachablePairs()))
         rejected = max(rejected, il.quickRejected)
         fused = max(fused, il.fusedContacts)
-    return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked, rejected, fused
+        recalled = max(recalled, il.recalledSkips)
+    return _state_hash(), O.energy.total(), O.interactions.countReal(), fast, marked, rejected, fused, recalled
 
 
 NO_PREFETCH = {"newton": {"prefetch": False}, "flexDt": {"prefetch": False}}
@@ -75,7 +80,8 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
     assert ref[2] > 100 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path)
     assert ref[6] == 0
     for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False),
-                  dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False)):
+                  dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False), dict(rememberSkips=False),
+                  dict(rememberSkips=False, quickReject=False)):
         got = _run_from_saved(**attrs)
         assert all(got[3]), attrs  # every step on the prefetching loop
         assert got[:3] == ref[:3], attrs
@@ -83,8 +89,51 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
         assert (got[5] > 100) if attrs.get("quickReject", True) else (got[5] == 0), attrs
         # sphere contacts run by the fused path (on by default; about 100 of the 147 contacts here)
         assert (got[6] > 80) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs
+        # pairs left out from their records, without their interaction objects (on by default): on
+        # some step, at least 9 in 10 of the most pairs marked (most of them are remembered from the
+        # step before; 1,391 of 1,325 marked and 193 rejected, 2026-12-03)
+        assert (got[7] >= 0.9 * ref[4]) if attrs.get("rememberSkips", True) else (got[7] == 0), attrs
     assert _run_from_saved(prefetch=False)[:3] == ref[:3]  # the integrator's and stepper's alone
     assert [e for e in O.engines if e.label == "newton"][0].usedFastPath  # (where the integrator prefetches)
+
+
+def _engine(label):
+    return [e for e in O.engines if e.label == label][0]
+
+
+def _changes():
+    """Changes from Python between steps that rememberSkips' records must see: a grain with marked
+    pairs erased (its interactions leave the container at once, the last ones moving into their
+    places), a marked pair and a sphere pair apart reset in place, every potential pair erased,
+    quickReject and the time stepper's marks switched off and on again. (The engines are looked up when called: _run_from_saved loads new ones.)"""
+
+    def erase_grain():
+        grains = sorted({i for p in _engine("flexDt").unreachablePairs() for i in p
+                         if type(O.bodies[i].shape).__name__ == "Sphere" and not O.bodies[i].isClumpMember})
+        assert grains
+        assert O.bodies.erase(grains[len(grains) // 2])
+
+    def reset_pairs():  # (O.interactions.erase resets a potential pair in place: the same object, no functor cached)
+        spheres = [p for p in O.interactions.all(False) if not p.isReal
+                   and all(type(O.bodies[i].shape).__name__ == "Sphere" for i in (p.id1, p.id2))]
+        marked = sorted(_engine("flexDt").unreachablePairs())
+        assert spheres and marked
+        for i, j in (marked[len(marked) // 3], sorted((p.id1, p.id2) for p in spheres)[len(spheres) // 2]):
+            O.interactions.erase(i, j)
+
+    def setter(label, attr, value):
+        return lambda: setattr(_engine(label), attr, value)
+
+    return {20: reset_pairs, 40: erase_grain, 90: lambda: O.interactions.eraseNonReal(), 130: setter("interactionLoop", "quickReject", False),
+            160: setter("interactionLoop", "quickReject", True), 200: setter("flexDt", "markUnreachable", False),
+            240: setter("flexDt", "markUnreachable", True)}
+
+
+def test_records_follow_changes_between_steps(impact_state):
+    ref = _run_from_saved(steps=300, between=_changes(), prefetch=False, engines=NO_PREFETCH)
+    got = _run_from_saved(steps=300, between=_changes())
+    assert got[:3] == ref[:3]
+    assert got[7] >= 0.9 * ref[4]
 
 
 def test_sorted_loop_falls_back_to_interaction_loop(impact_state):
