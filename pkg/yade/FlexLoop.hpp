@@ -35,7 +35,9 @@
 //     pair apart, while the functors, quickReject, the scene and the container stay the same
 //     (the table is asked each step); for a marked pair, also until the marks are made again or
 //     a collider runs. A marked pair whose spheres are apart is then counted as left out by
-//     quickReject (recorded so on the collider's step, when no marks hold);
+//     quickReject (recorded so on the collider's step, when no marks hold). The objects pass 1
+//     reads are asked for `ahead[0]` READ objects ahead (the places a record leaves out are not
+//     counted: counted by place, the stream ran too few reads ahead, 1.04-1.10x on the step);
 //  2. it runs the functors on the listed ones, asking for their bodies, geom and phys
 //     `ahead[1]` listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead.
 //     An existing sphere-sphere contact of the yade-flex law (fuseSpheres) is run as one call,
@@ -140,7 +142,7 @@ public:
 		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/FlexLoop.hpp.",
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
 		((int, blockSize, 256, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache [-]"))
-		((Vector3i, ahead, Vector3i(12, 6, 3), , "Prefetch distances [iterations]: interaction objects (pass 1), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
+		((Vector3i, ahead, Vector3i(12, 6, 3), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
 		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
 		((bool, fuseSpheres, true, , "On the prefetching loop, run an existing sphere-sphere contact (Ig2_Sphere_Sphere_FlexContactGeom, Ip2_FrictMat_FrictMat_FrictPhys, Law2_FlexContactGeom_FrictPhys_CundallStrack, two plain spheres) as one call from a table of the spheres' centres, radii, velocities and angular velocities made at the start of the step, without reading their bodies, states and shapes or calling the three functors through the dispatch; False: through the functors (for comparisons). Same results bit for bit."))
 		((bool, threadSums, true, , "On the prefetching loop with several threads and at least threadSumsMin interactions, each thread sums the forces of the yade-flex contact law in its own arrays, added to O.forces once per body after the loop (flexa::ThreadForceSums: ForceContainer.addForce from two threads at once contends for shared cache lines); False: addForce per contact (for comparisons). Same forces up to round-off; one thread never uses them."))
