@@ -121,6 +121,21 @@ namespace flexa {
 		if (id + 8 < n)
 			if (const Body* c = body[id + 8].get()) parts(*c);
 	}
+	/// The same for a pass over a list of body ids (ids[0..n)), at its k-th entry.
+	template <class Parts> inline void prefetchBodiesAhead(const shared_ptr<Body>* body, const Body::id_t* ids, long n, long k, Parts&& parts)
+	{
+		if (k + 16 < n) prefetch(body[ids[k + 16]].get(), sizeof(Body));
+		if (k + 8 < n)
+			if (const Body* c = body[ids[k + 8]].get()) parts(*c);
+	}
+	/// Body `id` of the scene, or null (no such id, or erased). Reads the container's vector
+	/// directly: BodyContainer::size, operator[] and Body::byId are out-of-line calls into
+	/// libyade, two per lookup, made for every neighbour an ownership search probes.
+	inline const Body* bodyAt(const Scene* scene, Body::id_t id)
+	{
+		const std::vector<shared_ptr<Body>>& v = scene->bodies->body;
+		return (id < 0 || (size_t)id >= v.size()) ? nullptr : v[id].get();
+	}
 
 	/// Counts the elements FlexElementEngine has erased (rupture), in any scene: FlexNewtonIntegrator
 	/// rebuilds its node table of the collider trigger when it changes.
@@ -175,8 +190,7 @@ namespace flexa {
 	}
 	inline const State* stateOf(const Scene* scene, Body::id_t id)
 	{
-		if (id < 0 || id >= (Body::id_t)scene->bodies->size()) return nullptr;
-		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		const Body* b = bodyAt(scene, id);
 		return b ? b->state.get() : nullptr;
 	}
 	inline bool shareNode(const FlexCylinder& a, const FlexCylinder& b)
@@ -237,8 +251,7 @@ namespace flexa {
 	}
 	inline Element elementOf(const Scene* scene, Body::id_t id)
 	{
-		if (id < 0 || id >= (Body::id_t)scene->bodies->size()) return Element();
-		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		const Body* b = bodyAt(scene, id);
 		return b ? elementOf(b->shape.get()) : Element();
 	}
 	inline bool shareNode(const Element& a, const Element& b)
@@ -363,7 +376,7 @@ namespace flexa {
 		for (int m = 0; m < nCl; ++m) { // breadth-first over linked neighbours
 			const Member cur = cl[m];
 			for (int k = 0; k < cur.e.nNodes; ++k) {
-				const shared_ptr<Body>& nb = Body::byId(cur.e.nodes[k], const_cast<Scene*>(scene));
+				const Body* nb = bodyAt(scene, cur.e.nodes[k]);
 				if (!nb) continue;
 				const FlexNode* node = static_cast<const FlexNode*>(nb->shape.get());
 				for (int other : node->elements) {
@@ -546,7 +559,7 @@ namespace flexa {
 			return beats(cl[nCl++]);
 		};
 		auto elementsOf = [&](Body::id_t nodeId) -> const std::vector<int>* {
-			const shared_ptr<Body>& nb = Body::byId(nodeId, const_cast<Scene*>(scene));
+			const Body* nb = bodyAt(scene, nodeId);
 			return nb ? &static_cast<const FlexNode*>(nb->shape.get())->elements : nullptr;
 		};
 		auto holds = [](const Element& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support

@@ -903,7 +903,7 @@ void FlexNewtonIntegrator::flagElements()
 {
 	Real flag = 0;
 	for (Body::id_t id : elements) {
-		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		const Body* b = flexa::bodyAt(scene, id);
 		if (!b || !b->bound) continue;
 		const FlexCylinder* c = static_cast<const FlexCylinder*>(b->shape.get());
 		const State *s1 = flexa::stateOf(scene, c->node1), *s2 = flexa::stateOf(scene, c->node2);
@@ -914,7 +914,7 @@ void FlexNewtonIntegrator::flagElements()
 	}
 	for (Body::id_t id : facets) {
 		if (flag == 2) break;
-		const shared_ptr<Body>& b = (*scene->bodies)[id];
+		const Body* b = flexa::bodyAt(scene, id);
 		if (!b || !b->bound) continue;
 		const FlexFacet* f  = static_cast<const FlexFacet*>(b->shape.get());
 		const State *    s1 = flexa::stateOf(scene, f->node1), *s2 = flexa::stateOf(scene, f->node2), *s3 = flexa::stateOf(scene, f->node3);

@@ -283,18 +283,16 @@ void FlexInteractionLoop::action()
 #pragma omp parallel for schedule(static) num_threads(threads) if (ns >= 8192)
 #endif
 		for (long k = 0; k < ns; ++k) {
-			// (the body 16 ahead, what the one 8 ahead points to, as flexa::prefetchBodiesAhead; 32
-			// and 16 left the same share of perf's samples on the first load from a body, 2026-12-03)
-			if (k + 16 < ns) flexa::prefetch(bodies.p[ids[k + 16]].get(), sizeof(Body));
-			if (k + 8 < ns)
-				if (const Body* c = bodies.p[ids[k + 8]].get()) { // (of the state, only the lines of pos, vel and angVel)
-					if (const State* st = c->state.get()) {
-						flexa::prefetch(&st->pos, sizeof(Vector3r));
-						flexa::prefetch(&st->vel, sizeof(Vector3r));
-						flexa::prefetch(&st->angVel, sizeof(Vector3r));
-					}
-					flexa::prefetch(c->shape.get(), sizeof(Sphere));
+			// (the body 16 ahead, what the one 8 ahead points to; 32 and 16 left the same share of
+			// perf's samples on the first load from a body, 2026-12-03)
+			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
+				if (const State* st = c.state.get()) {
+					flexa::prefetch(&st->pos, sizeof(Vector3r));
+					flexa::prefetch(&st->vel, sizeof(Vector3r));
+					flexa::prefetch(&st->angVel, sizeof(Vector3r));
 				}
+				flexa::prefetch(c.shape.get(), sizeof(Sphere));
+			});
 			const Body::id_t id = ids[k];
 			SpherePoint&     q  = pts[id];
 			q.r                 = -1;
