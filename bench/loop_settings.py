@@ -1,7 +1,7 @@
 # Benchmark: the collider's sweep and the interaction loop's quick rejection on the damping-module
 # impact (GPL-2.0-or-later).
 #
-#     yade-double -n -j1 -x bench/loop_settings.py [--small] [--rounds 3] [--window 600] [--warmup 200] [--settings 100:1 off:2 100:1:noqr 100:1:nofuse 100:1:nosums 100:1:norem ...]
+#     yade-double -n -j1 -x bench/loop_settings.py [--small] [--rounds 3] [--window 600] [--warmup 200] [--settings 100:1 off:2 100:1:noqr 100:1:nofuse 100:1:nosums 100:1:norem 100:1:nocompact ...]
 #
 # Why: a step of the impact costs the interaction loop (every potential pair the time stepper did
 # not mark unreachable is visited: bodies, shapes, states read), the collider, and the time
@@ -20,9 +20,12 @@
 # 10,231 us per step at -j1, 8 rounds of 300 steps, within the windows' scatter, so left out).
 # FlexInteractionLoop.rememberSkips leaves out the pairs of the two kinds above from a record of the
 # last steps, without reading their interaction objects (:norem switches it off).
+# FlexInteractionLoop.compactEvery copies the contacts' geometry and physics side by side, in the
+# loop's order, every 100 steps (:nocompact: never; each window starts from O.loadTmp, whose objects
+# the allocator places where the last run's were freed).
 # What it does: the main job's impact (yadeflex.module.impact_start, the filled module from the
 # cache), stepped to 5 ms after first contact, kept with O.saveTmp; then for each setting, --rounds
-# times, interleaved: O.loadTmp, set targetInterv, verletDist, quickReject, fuseSpheres, threadSums and rememberSkips, --warmup steps, then
+# times, interleaved: O.loadTmp, set targetInterv, verletDist, quickReject, fuseSpheres, threadSums, rememberSkips and compactEvery, --warmup steps, then
 # --window steps timed (wall clock, and each engine's execTime). Medians over the rounds, and the
 # median of each setting's ratio to the first one within a round (paired: this VM's speed drifts
 # by 20% from minute to minute).
@@ -45,11 +48,11 @@ from machine import machine_line  # noqa: E402
 from yadeflex.module import ModuleParams, impact_start  # noqa: E402
 
 # (targetInterv, verletDist as a multiple of yadeflex.engines()'s default, half the wire radius,
-# quickReject, fuseSpheres, threadSums, rememberSkips)
-SETTINGS = [(100, 1.0, True, True, True, True), (100, 1.0, False, True, True, True), (100, 1.0, True, False, True, True),
-            (100, 1.0, True, True, True, False), (100, 0.5, True, True, True, True), (100, 2.0, True, True, True, True),
-            (-1, 1.0, True, True, True, True), (-1, 2.0, True, True, True, True), (-1, 4.0, True, True, True, True)]
-FLAGS = ("noqr", "nofuse", "nosums", "norem")  # the switches of s[2:], in order
+# quickReject, fuseSpheres, threadSums, rememberSkips, compactEvery on)
+SETTINGS = [(100, 1.0, True, True, True, True, True), (100, 1.0, False, True, True, True, True), (100, 1.0, True, False, True, True, True),
+            (100, 1.0, True, True, True, False, True), (100, 0.5, True, True, True, True, True), (100, 2.0, True, True, True, True, True),
+            (-1, 1.0, True, True, True, True, True), (-1, 2.0, True, True, True, True, True), (-1, 4.0, True, True, True, True, True)]
+FLAGS = ("noqr", "nofuse", "nosums", "norem", "nocompact")  # the switches of s[2:], in order
 
 
 def label(s):
@@ -63,9 +66,9 @@ def parse():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--window", type=int, default=600, help="timed steps per window")
     ap.add_argument("--warmup", type=int, default=200, help="steps after each reload before timing")
-    ap.add_argument("--settings", nargs="+", default=None, metavar="TI:F[:noqr][:nofuse][:nosums][:norem]",
+    ap.add_argument("--settings", nargs="+", default=None, metavar="TI:F[:noqr][:nofuse][:nosums][:norem][:nocompact]",
                     help="targetInterv:factor (targetInterv an integer > 0, or 'off' for -1; factor x the default verletDist; "
-                    ":noqr: FlexInteractionLoop.quickReject off; :nofuse: FlexInteractionLoop.fuseSpheres off; :nosums: FlexInteractionLoop.threadSums off; :norem: FlexInteractionLoop.rememberSkips off); "
+                    ":noqr: FlexInteractionLoop.quickReject off; :nofuse: FlexInteractionLoop.fuseSpheres off; :nosums: FlexInteractionLoop.threadSums off; :norem: FlexInteractionLoop.rememberSkips off; :nocompact: FlexInteractionLoop.compactEvery = 0); "
                     "the first is the reference "
                     "(default: %s)" % " ".join(label(s) for s in SETTINGS))
     a = ap.parse_args(sys.argv[me + 1:])
@@ -80,7 +83,7 @@ def parse():
             out.append((-1 if f[0] == "off" else int(f[0]), float(f[1]), *(k not in f[2:] for k in FLAGS)))
         a.settings = out or SETTINGS
     except ValueError:
-        ap.error(f"--settings takes targetInterv:factor[:noqr][:nofuse][:nosums][:norem] such as 100:1 off:2 100:1:noqr 100:1:nofuse, got {a.settings}")
+        ap.error(f"--settings takes targetInterv:factor[:noqr][:nofuse][:nosums][:norem][:nocompact] such as 100:1 off:2 100:1:noqr 100:1:nofuse, got {a.settings}")
     if any(f <= 0 or t == 0 or t < -1 for t, f, *_ in a.settings):
         ap.error("targetInterv must be positive or 'off', verletDist factors positive")
     return a
@@ -107,6 +110,7 @@ def main():
             il.fuseSpheres = s[3]
             il.threadSums = s[4]
             il.rememberSkips = s[5]
+            il.compactEvery = 100 if s[6] else 0
             O.run(a.warmup, True)
             O.timingEnabled = True
             for e in O.engines:
@@ -126,7 +130,7 @@ def main():
     for s in a.settings:
         med = {k: statistics.median(r[k] for r in runs[s]) for k in runs[s][0]}
         paired = statistics.median(r["us"] / q["us"] for r, q in zip(runs[s], runs[a.settings[0]]))
-        rows.append(dict(setting=label(s), target_interv=s[0], verlet_mm=1e3 * s[1] * v0, quick_reject=s[2], fuse_spheres=s[3], thread_sums=s[4], remember_skips=s[5], us_per_step=med["us"], vs_first=med["us"] / base,
+        rows.append(dict(setting=label(s), target_interv=s[0], verlet_mm=1e3 * s[1] * v0, quick_reject=s[2], fuse_spheres=s[3], thread_sums=s[4], remember_skips=s[5], compact=s[6], us_per_step=med["us"], vs_first=med["us"] / base,
                          vs_first_paired=paired, windows=" ".join(f"{r['us']:.0f}" for r in runs[s]), **{k: v for k, v in med.items() if k != "us"}))
     out = os.path.join(os.path.dirname(BENCH), "bench", "results", "loop_settings" + ("_small" if a.small else "") + ".csv")
     os.makedirs(os.path.dirname(out), exist_ok=True)

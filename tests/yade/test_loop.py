@@ -81,7 +81,7 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
     assert ref[6] == 0
     for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False),
                   dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False), dict(rememberSkips=False),
-                  dict(rememberSkips=False, quickReject=False)):
+                  dict(rememberSkips=False, quickReject=False), dict(compactEvery=1), dict(compactEvery=0), dict(compactEvery=7, blockSize=7)):
         got = _run_from_saved(**attrs)
         assert all(got[3]), attrs  # every step on the prefetching loop
         assert got[:3] == ref[:3], attrs
@@ -134,6 +134,54 @@ def test_records_follow_changes_between_steps(impact_state):
     got = _run_from_saved(steps=300, between=_changes())
     assert got[:3] == ref[:3]
     assert got[7] >= 0.9 * ref[4]
+
+
+def _contacts():
+    """(id1, id2) of the real interactions with a FlexContactGeom and a FrictPhys: those compactEvery copies."""
+    return [(i.id1, i.id2) for i in O.interactions if type(i.geom).__name__ == "FlexContactGeom" and type(i.phys).__name__ == "FrictPhys"]
+
+
+def test_compaction_copies_every_contact_but_those_held_elsewhere(impact_state):
+    """compactEvery copies each contact's geometry and physics that only its interaction holds (the
+    count is exact); an object Python holds stays where it is and stays the live one: the step
+    updates it, as it updates the interaction's."""
+    O.loadTmp("loop")
+    il = _loop()
+    il.compactEvery = 1
+    O.step()
+    n = len(_contacts())
+    assert n > 100
+    O.step()
+    assert il.compactedContacts == n  # every contact, at the start of this step
+    for _ in range(5):
+        O.step()
+    pairs = _contacts()
+    # a grain-grain contact held from Python while the compactions run
+    i1, i2 = next(p for p in pairs if all(type(O.bodies[k].shape).__name__ == "Sphere" for k in p))
+    g, p = O.interactions[i1, i2].geom, O.interactions[i1, i2].phys
+    before = (g.penetrationDepth, tuple(p.normalForce))
+    n = len(_contacts())
+    O.step()
+    assert il.compactedContacts == n - 1  # all but the held one
+    for _ in range(3):
+        O.step()
+    assert O.interactions.has(i1, i2) and O.interactions[i1, i2].isReal
+    live_g, live_p = O.interactions[i1, i2].geom, O.interactions[i1, i2].phys
+    assert (g.penetrationDepth, tuple(p.normalForce)) == (live_g.penetrationDepth, tuple(live_p.normalForce))
+    assert (g.penetrationDepth, tuple(p.normalForce)) != before  # (it moved: a stale copy would show the old values)
+    del g, p, live_g, live_p
+    # saved and loaded with its contacts in the block: the same as a run that never compacts
+    O.saveTmp("compacted")
+    O.loadTmp("compacted")
+    _loop().compactEvery = 0
+    for _ in range(20):
+        O.step()
+    h = _state_hash()
+    O.loadTmp("compacted")
+    _loop().compactEvery = 1
+    for _ in range(20):
+        O.step()
+    assert _state_hash() == h
 
 
 def test_sorted_loop_falls_back_to_interaction_loop(impact_state):
