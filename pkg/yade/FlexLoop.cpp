@@ -10,8 +10,8 @@
 #include <exception>
 #include <limits>
 #include <memory>
-#include <new>
 #include <mutex>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <typeinfo>

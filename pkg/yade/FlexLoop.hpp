@@ -59,8 +59,8 @@
 // The copies are exact, so the results are the same bit for bit. An object that Python or another
 // interaction also holds (use_count > 1) stays where it is, so that a reference held from Python
 // stays the live object. Each copy is released on its own; the block goes with its last copy.
-// On the damping module 5 ms into the impact the step ran 1.22-1.44x faster (bench/README.md,
-// "Contacts side by side").
+// On the damping module 5 ms into the impact the step ran 1.10x and 1.25x faster (paired windows,
+// bench/README.md, "Contacts side by side"; 1.31x with the other core busy with the same work).
 //
 // On several threads, each thread takes one contiguous run of blocks, the runs split so that each
 // thread's blocks took about as long on the last step; and (threadSums) the yade-flex contact law
