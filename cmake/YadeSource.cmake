@@ -16,7 +16,7 @@ if(NOT EXISTS "${YADE_SOURCE_DIR}/core/Omega.hpp")
     "Provide them in one of these ways:\n"
     "  * run scripts/setup (downloads trunk-${YADE_VERSION_TAG}.tar.gz and checks its sha256), or\n"
     "  * unpack YADE's source at tag ${YADE_VERSION_TAG} and pass -DYADE_SOURCE_DIR=<dir> or set YADE_SOURCE_DIR, or\n"
-    "  * from a local git copy of a YADE repository carrying the tag: ../shared/tools/yade-source <git-dir>\n"
+    "  * from a local git clone of YADE carrying the tag: mkdir -p <dir> && git -C <clone> archive ${YADE_VERSION_TAG} | tar -x -C <dir>, then pass <dir> as YADE_SOURCE_DIR\n"
     "Never commit that source tree.")
 endif()
 message(STATUS "YADE headers: ${YADE_SOURCE_DIR}")

@@ -8,7 +8,7 @@ import sys
 from yadeflex import tensile
 
 out = sys.argv[1] if len(sys.argv) > 1 else "validation/tensile"
-EA_REF, FB_REF = 96e9 * 24.32e-6, 37.6e3  # datasheet (DESIGN.md)
+EA_REF, FB_REF = 96e9 * 24.32e-6, 37.6e3  # rope data (docs/model.md)
 r = tensile.rope_tensile_test(length=1.0, segments=10, damping=0.3, steps_per_unit_strain=2e6)
 print(f"rope (10 segments): EA {r['EA']:.4e} N ({r['EA'] / EA_REF - 1:+.3%}), breaking force {r['rupture_force']:.1f} N "
       f"({r['rupture_force'] / FB_REF - 1:+.3%}), ruptured {r['ruptured']}")

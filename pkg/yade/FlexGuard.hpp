@@ -18,8 +18,8 @@
 //         S = max over the checks so far of (sum_k |E_k| + |W_ext|)
 //     (every term the run has booked, so S >= the impact or initial energy). A blow-up
 //     creates energy that soon dominates every other term, so R / S -> 1; the integration
-//     error of a stable run is a few percent of S at most (README: the wire-and-ring demo at
-//     timestep safety 0.8). The check fires when R > energyTolerance x S.
+//     error of a stable run is a few percent of S at most (the wire-and-ring demo at
+//     timestep safety 0.8: yadeflex.engines). The check fires when R > energyTolerance x S.
 //
 // Forces added from Python each step (O.forces.addF in a PyRunner) are external work the guard
 // cannot see: such scenes need energyTolerance = inf (or the work booked in O.energy).

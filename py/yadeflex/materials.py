@@ -52,7 +52,7 @@ def steel(label="steel", **kw):
 def rope_6x7_8mm(label="rope6x7", **kw):
     """Wire rope 6x7 FC, d = 8 mm, modelled as a tension-only bar of the nominal diameter.
 
-    Datasheet (DESIGN.md): E = 96 GPa on the metallic area 24.32 mm2, minimum breaking force
+    Rope data (docs/model.md): E = 96 GPa on the metallic area 24.32 mm2, minimum breaking force
     37.6 kN, 22.1 kg/100 m. The model's cross-section is the nominal circle (d = 8 mm, A =
     50.27 mm2), so E and density are scaled to keep EA, the breaking force and the mass per
     metre of the datasheet; bending stiffness is that of the metallic area spread over the

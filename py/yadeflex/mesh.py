@@ -36,7 +36,7 @@ from . import builders as B
 TECCO_G65_DX = 0.083  # [m] rhombus diagonal across the spirals (longitudinal direction)
 TECCO_G65_DY = 0.143  # [m] rhombus diagonal along the spirals (transverse direction)
 TECCO_G65_WIRE_RADIUS = 0.0015  # [m] d = 3 mm
-TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrugg datasheet; DESIGN.md)
+TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrugg datasheet; docs/model.md)
 
 # Distortion of the mesh links (Thoeni et al. 2013 "type 2"), NOT fitted to the mesh datasheet:
 # the slack of a link is at most the play of a knot, one wire diameter over a leg,

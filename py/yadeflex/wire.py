@@ -10,7 +10,7 @@ through a soft initial branch ending at force_ratio x the first point's force.
 """
 from .materials import flex_material
 
-# High-tensile steel wire, tensile strength 1770 N/mm2 (TECCO wire, Geobrugg; DESIGN.md).
+# High-tensile steel wire, tensile strength 1770 N/mm2 (TECCO wire, Geobrugg; docs/model.md).
 # E = 200 GPa up to the proportional limit 1400 N/mm2 (0.79 fu), 0.2% proof stress about
 # 1600 N/mm2 (0.90 fu), tensile strength 1770 N/mm2 at 5% elongation after fracture: typical of
 # cold-drawn, patented wire (EN 10264-2 class; an assumption, not a measured curve of this wire).

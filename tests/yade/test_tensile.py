@@ -11,7 +11,7 @@ import yadeflex as yf
 from yadeflex import tensile, mesh, wire
 from tol import assert_rel
 
-ROPE_EA = 96e9 * 24.32e-6  # [N] datasheet E x metallic area (DESIGN.md)
+ROPE_EA = 96e9 * 24.32e-6  # [N] datasheet E x metallic area (docs/model.md)
 ROPE_MBF = 37.6e3  # [N] minimum breaking force
 
 
