@@ -1,5 +1,6 @@
 // yade-flex adapter: element forces and the time stepper (GPL-2.0-or-later).
 #include "FlexCommon.hpp"
+#include "FlexSceneCheck.hpp"
 #include "FlexWire.hpp"
 
 #include <core/Clump.hpp>
@@ -68,6 +69,7 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 
 void FlexElementEngine::action()
 {
+	flexa::checkScene(scene);
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
 	flexa::checkWireMaterials(scene);
 	const long              n = (long)cylinders.size();
@@ -600,6 +602,46 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 		const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
 		return flex::cannotTouch(gap, reach1, reach2, size);
 	};
+	// The rows of a pair that may carry a contact before the next estimate (a potential pair, or
+	// a contact not carrying force now), with stiffness k = max(kn, ks): each side's DOF bodies
+	// (an element's nodes, else the body itself), each row at its worst position (all weight on
+	// that node), and the excess kappa of a facet node's share over its weight (load factor - 1).
+	auto potentialRows = [&](Real* rowOut, Real* rotOut, Body::id_t i1, Body::id_t i2, Real kn, Real ks) {
+		const StepBody*  bs[2] = { &sb[i1], &sb[i2] };
+		const Real       k     = std::max(kn, ks);
+		Real             r[2]  = { bs[0]->radius, bs[1]->radius };
+		if (r[0] <= 0) r[0] = r[1];
+		if (r[1] <= 0) r[1] = r[0];
+		Body::id_t       ids[2][3];
+		int              nid[2];
+		Real             smax[2], kappa[2];
+		const Body::id_t self[2] = { i1, i2 };
+		for (int s = 0; s < 2; ++s) {
+			const flexa::Element& el = bs[s]->el;
+			kappa[s]                 = el.fac ? bs[s]->kappa : 0;
+			if (el.nNodes) {
+				nid[s] = el.nNodes;
+				for (int a = 0; a < el.nNodes; ++a)
+					ids[s][a] = el.nodes[a];
+			} else {
+				ids[s][0] = self[s];
+				nid[s]    = 1;
+			}
+			smax[s] = 0;
+			for (int a = 0; a < nid[s]; ++a)
+				smax[s] = std::max(smax[s], invSqrtMass(ids[s][a]));
+		}
+		for (int s = 0; s < 2; ++s)
+			for (int a = 0; a < nid[s]; ++a) {
+				const Real ia = invSqrtMass(ids[s][a]);
+				if (ia == 0) continue;
+				// worst position: all weight on this node; its side's other nodes carry kappa each
+				const Real own   = (1 + kappa[s]) * ia + (nid[s] - 1) * kappa[s] * smax[s];
+				const Real other = smax[1 - s] * (1 + nid[1 - s] * kappa[1 - s]);
+				rowOut[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
+				if (!bs[s]->el.fac) addRot(rotOut, ids[s][a], ks, 1, r[s]);
+			}
+	};
 	InteractionContainer&          ic    = *scene->interactions;
 	const long                     nI    = (long)ic.size();
 	const shared_ptr<Interaction>* intrs = nI ? &ic[0] : nullptr;
@@ -681,7 +723,14 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 			} e[6];
 			int ne = 0;
 			if (const FlexContactGeom* g = fg) {
-				if (!g->active) continue;
+				// a contact that is not carrying force (it separated this step, or another contact
+				// of its cluster owns the force) can carry it again at the next step, before the
+				// next estimate: it counts with the worst weights of a potential pair
+				if (!g->active) {
+					const Body::id_t i1 = I->getId1(), i2 = I->getId2();
+					if (i1 >= 0 && i2 >= 0 && i1 < nb && i2 < nb) potentialRows(myRow, myRot, i1, i2, ph->kn, ph->ks);
+					continue;
+				}
 				const Vector2i*  nodes[2] = { &g->nodes1, &g->nodes2 };
 				const Vector3i*  tris[2]  = { &g->tri1, &g->tri2 };
 				const Vector3r*  bary[2]  = { &g->bary1, &g->bary2 };
@@ -741,38 +790,7 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 		const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
 		const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
 		const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
-		const Real      k  = std::max(kn, ks);
-		// each side: its DOF bodies (an element's nodes, else the body itself) and the excess
-		// kappa of a node's share over its weight (facets: load factor - 1; else 0)
-		Body::id_t       ids[2][3];
-		int              nid[2];
-		Real             smax[2], kappa[2];
-		const Body::id_t self[2] = { i1, i2 };
-		for (int s = 0; s < 2; ++s) {
-			const flexa::Element& el = bs[s]->el;
-			kappa[s]                 = el.fac ? bs[s]->kappa : 0;
-			if (el.nNodes) {
-				nid[s] = el.nNodes;
-				for (int a = 0; a < el.nNodes; ++a)
-					ids[s][a] = el.nodes[a];
-			} else {
-				ids[s][0] = self[s];
-				nid[s]    = 1;
-			}
-			smax[s] = 0;
-			for (int a = 0; a < nid[s]; ++a)
-				smax[s] = std::max(smax[s], invSqrtMass(ids[s][a]));
-		}
-		for (int s = 0; s < 2; ++s)
-			for (int a = 0; a < nid[s]; ++a) {
-				const Real ia = invSqrtMass(ids[s][a]);
-				if (ia == 0) continue;
-				// worst position: all weight on this node; its side's other nodes carry kappa each
-				const Real own   = (1 + kappa[s]) * ia + (nid[s] - 1) * kappa[s] * smax[s];
-				const Real other = smax[1 - s] * (1 + nid[1 - s] * kappa[1 - s]);
-				myRow[ids[s][a]] += k * (1 + kappa[s]) * ia * (own + other);
-				if (!bs[s]->el.fac) addRot(myRot, ids[s][a], ks, 1, s ? r2 : r1);
-			}
+		potentialRows(myRow, myRot, i1, i2, kn, ks);
 	}
 	} // omp parallel
 	for (int t = 1; t < nThreads; ++t)
@@ -851,6 +869,7 @@ namespace {
 
 void FlexTimeStepper::action()
 {
+	flexa::checkScene(scene);
 	if (interval < 1) throw std::invalid_argument("FlexTimeStepper.interval must be >= 1");
 	if (!(safety > 0) || safety > 1) throw std::invalid_argument("FlexTimeStepper.safety must be in (0, 1]");
 	// Also whenever the collider ran: only the collider adds (potential) interactions, and a new
@@ -1000,12 +1019,37 @@ namespace {
 	};
 }
 
+Real FlexNewtonIntegrator::dampingOnBlockedDofs()
+{
+	scene->forces.sync();
+	Real sum = 0;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !b->isStandalone()) continue; // (a clump's summed force is NewtonIntegrator's own)
+		const State& st = *b->state;
+		if (!st.blockedDOFs || !st.isDamped) continue;
+		const Vector3r f = scene->forces.getForce(b->id) + st.mass * gravity;
+		const Vector3r m = scene->forces.getTorque(b->id);
+		for (int i = 0; i < 3; ++i) {
+			if (st.blockedDOFs & State::axisDOF(i, false)) sum += std::abs(st.vel[i]) * std::abs(f[i]);
+			if (st.blockedDOFs & State::axisDOF(i, true)) sum += std::abs(st.angVel[i]) * std::abs(m[i]);
+		}
+	}
+	return sum * damping * scene->dt;
+}
+
 void FlexNewtonIntegrator::action()
 {
+	flexa::checkScene(scene);
+	flexa::checkTimeStep(scene);
 	if (scene->bodies->size() != cachedBodyCount) refresh();
 	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
 	if (!usedFastPath) {
+		// NewtonIntegrator books |v_i| |F_i + m g_i| c dt on every component of a damped body,
+		// blocked ones too, where no damping acts (a driven DOF): what it will book there, from
+		// the same velocities and forces, is taken back after it ran
+		const Real blockedDamping = scene->trackEnergy && damping != 0 && !scene->isPeriodic ? dampingOnBlockedDofs() : 0;
 		NewtonIntegrator::action();
+		if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
 		flagElements();
 		return;
 	}

@@ -137,3 +137,25 @@ def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_ra
                 params=dict(wire_length=wire_length, wire_segments=wire_segments, wire_radius=wire_radius, ring_radius=ring_radius,
                             ring_bar_radius=ring_bar_radius, ring_segments=ring_segments, ball_radius=ball_radius,
                             drop_height=drop_height, damping=damping))
+
+
+def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=2e8, contact_young=200e9, support_radius=0.01,
+                 friction_deg=0.0, timestep_safety=0.5, timestep_interval=50):
+    """A bar of FlexCylinders (length, radius [m], steel density) falling drop [m] onto two
+    fixed steel spheres (support_radius [m]) under its ends, bouncing off them again and again:
+    every bounce is a contact that separates and starts anew. element_young [Pa] is the bar's
+    modulus, contact_young [Pa] its contacts': a softer element than contact makes the bonds'
+    critical step far longer than the contacts'. No damping; friction_deg [deg] for both."""
+    O.reset()
+    mat = flex_material(young=element_young, density=7850.0, friction_deg=friction_deg, contact_young=contact_young)
+    half = 0.5 * length
+    z = support_radius + radius + drop
+    nodes, cyls = B.chain([(-half, 0, z), (half, 0, z)], radius, mat, segments=segments)
+    supports = [sphere((x, 0, 0), support_radius, density=7850.0, young=200e9, friction_deg=friction_deg) for x in (-0.8 * half, 0.8 * half)]
+    for s in supports:
+        O.bodies[s].state.blockedDOFs = "xyzXYZ"
+    O.engines = engines(damping=0.0, timestep_safety=timestep_safety, timestep_interval=timestep_interval)
+    return dict(nodes=nodes, cylinders=cyls, supports=supports,
+                params=dict(drop=drop, length=length, segments=segments, radius=radius, element_young=element_young,
+                            contact_young=contact_young, support_radius=support_radius, friction_deg=friction_deg,
+                            timestep_safety=timestep_safety, timestep_interval=timestep_interval))
