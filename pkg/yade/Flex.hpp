@@ -338,12 +338,13 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	bool                  nodeTableOk = false;
 	long                  tableRuns = -2, tableErasures = -1;
 	bool                  buildNodeTable();
+	Real                  dampingOnBlockedDofs(); // what NewtonIntegrator books on blocked DOFs this step [J]
 
 public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
-		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that, on the fast path, local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator, and this class's fallback to it, also books |v||F| c dt on blocked, driven DOFs, where no damping acts), clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
+		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator also books |v||F| c dt on blocked, driven DOFs, where no damping acts; on its fallback to NewtonIntegrator's loop this class takes that share back), clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
 		((bool, prefetch, true, , "On the fast path, ask for the bodies' data a few bodies ahead, when at least 512 bodies move (fewer stay in cache between steps); same results; False: for comparisons"))
 		((int, parallelMin, 4000, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))

@@ -377,8 +377,8 @@ namespace flexa {
 			const Member cur = cl[m];
 			for (int k = 0; k < cur.e.nNodes; ++k) {
 				const Body* nb = bodyAt(scene, cur.e.nodes[k]);
-				if (!nb) continue;
-				const FlexNode* node = static_cast<const FlexNode*>(nb->shape.get());
+				const FlexNode* node = nb ? fastCast<FlexNode>(nb->shape.get()) : nullptr;
+				if (!node) continue;
 				for (int other : node->elements) {
 					bool dup = false;
 					for (int i = 0; i < nSeen && !dup; ++i) dup = seen[i] == other;
@@ -559,8 +559,9 @@ namespace flexa {
 			return beats(cl[nCl++]);
 		};
 		auto elementsOf = [&](Body::id_t nodeId) -> const std::vector<int>* {
-			const Body* nb = bodyAt(scene, nodeId);
-			return nb ? &static_cast<const FlexNode*>(nb->shape.get())->elements : nullptr;
+			const Body*     nb   = bodyAt(scene, nodeId);
+			const FlexNode* node = nb ? fastCast<FlexNode>(nb->shape.get()) : nullptr;
+			return node ? &node->elements : nullptr;
 		};
 		auto holds = [](const Element& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
 		for (int m = 0; m < nCl; ++m) { // breadth-first over linked pairs

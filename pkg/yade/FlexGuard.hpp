@@ -21,6 +21,11 @@
 //     error of a stable run is a few percent of S at most (the wire-and-ring demo at
 //     timestep safety 0.8: yadeflex.engines). The check fires when R > energyTolerance x S.
 //
+//  5. with O.trackEnergy, the same balance as booked (O.energy.total(), no leap-frog correction)
+//     above rawEnergyTolerance x the energy put in (start, external work, gravity, pressure): past the critical step the velocities alternate in sign and
+//     grow, the corrected kinetic term 1/2 m v-.v+ turns negative and keeps the corrected
+//     balance constant, while the booked one runs away.
+//
 // Forces added from Python each step (O.forces.addF in a PyRunner) are external work the guard
 // cannot see: such scenes need energyTolerance = inf (or the work booked in O.energy).
 //
@@ -65,6 +70,9 @@ public:
 		((Real, maxSpeed, std::numeric_limits<Real>::infinity(), Attr::triggerPostLoad, "Largest speed of any body, > 0; inf (default): off [m/s]"))
 		((Real, energyTolerance, 0.25, Attr::triggerPostLoad, "Largest energy created without external work, as a fraction of the energy scale (see :yref:`FlexGuard.energyScale`), > 0; inf: off. Only with O.trackEnergy [-]"))
 		((Real, maxKineticRatio, 10, Attr::triggerPostLoad, "Largest kinetic energy (YADE's form, 1/2 m v^2 at the half step) as a multiple of the energy put in (see :yref:`FlexGuard.energyInput`), > 0; inf: off. Only with O.trackEnergy. Catches the linear blow-up of a step above the critical one, which the leap-frog form of the balance cannot see (it stays constant while every term grows). A stable run stays below 1/(1 - (omega dt)^2/4) of it: 1.33 at half the critical step, 10 only within 5% of it [-]"))
+		((Real, rawEnergyTolerance, 2.0, Attr::triggerPostLoad, "Largest energy created without external work in the balance as booked (O.energy.total(), kinetic energy at the half step, no leap-frog correction), as a multiple of the energy put in (see :yref:`FlexGuard.energyInput`), > 0; inf: off. Only with O.trackEnergy. Above the critical step the corrected balance stays constant while this one runs away; in a stable run at a fraction s of the critical step the two differ by at most (1/(1 - s^2) - 1) x the energy put in (0.33 at s = 0.5, 1.78 at 0.8) [-]"))
+		((Real, rawEnergyStart, NaN, Attr::readonly, "O.energy.total() when energyStart was taken [J]"))
+		((Real, rawEnergyResidual, 0, Attr::readonly, "(O.energy.total() - rawEnergyStart) - externalWork at the last check [J]"))
 		((std::string, message, "", Attr::readonly, "What was detected (empty: nothing)"))
 		((vector<int>, bodies, , Attr::readonly, "Ids of the bodies involved, worst first"))
 		((long, detectedIter, -1, Attr::readonly, "O.iter at detection (-1: none)"))

@@ -1,6 +1,7 @@
 // yade-flex adapter: FlexInteractionLoop (GPL-2.0-or-later). Why and what: FlexLoop.hpp.
 #include "FlexLoop.hpp"
 #include "FlexCommon.hpp"
+#include "FlexSceneCheck.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -222,6 +223,7 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
 
 void FlexInteractionLoop::action()
 {
+	flexa::checkScene(scene);
 	InteractionContainer& ic = *scene->interactions;
 	// the collider asks for unseen potential interactions to go on this step (some colliders only)
 	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;

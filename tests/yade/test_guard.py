@@ -45,7 +45,8 @@ def test_engines_put_the_guard_first(scene):
 
 
 @pytest.mark.parametrize("attr, value", [("interval", -1), ("interval", 0), ("energyTolerance", float("nan")), ("energyTolerance", -0.1),
-                                         ("maxStepFraction", 0.0), ("maxStepFraction", float("nan")), ("maxSpeed", -1.0)])
+                                         ("maxStepFraction", 0.0), ("maxStepFraction", float("nan")), ("maxSpeed", -1.0),
+                                         ("rawEnergyTolerance", 0.0), ("rawEnergyTolerance", float("nan"))])
 def test_bad_parameters_raise_naming_them(scene, attr, value):
     with pytest.raises(ValueError, match=f"FlexGuard.{attr}"):
         FlexGuard(**{attr: value})
@@ -104,25 +105,57 @@ def test_time_step_twice_critical_is_stopped_before_any_nan(scene):
     assert O.iter < 5000
 
 
-def test_linear_blow_up_is_caught_by_the_kinetic_energy_check(scene):
-    """Just above the critical step (1.1 x) a linear cantilever's stiffest mode grows ~2.4x a
-    step. The leap-frog balance 1/2 m v-.v+ + U stays constant to round-off through such a
-    blow-up, so the energy check cannot see it; with the step check off, the kinetic energy
-    passing maxKineticRatio x the energy put in (the tip load's work) must stop it while every
-    value is tiny and finite."""
+def _blow_up_at_1_1(match, **checks_off):
+    """The undamped cantilever at 1.1 x the critical step, the step check and `checks_off`
+    (guard attributes set to inf) off: the guard stops it with a message matching `match`,
+    while every value is still tiny and finite and the leap-frog balance has seen nothing."""
     s = scenes.cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, damping=0.0)
     _without_stepper(1.1)
     O.trackEnergy = True
     g = _guard()
     g.maxStepFraction = float("inf")
-    with pytest.raises(RuntimeError, match="maxKineticRatio") as err:
+    for attr in checks_off:
+        setattr(g, attr, float("inf"))
+    with pytest.raises(RuntimeError, match=match) as err:
         for _ in range(2000):
             O.step()
     assert str(err.value) == g.message and _all_finite() and O.iter < 100
     assert abs(g.energyResidual) < 1e-6 * g.energyScale  # the leap-frog balance saw nothing
-    assert g.kineticSeen > g.maxKineticRatio * g.energyInput > 0
     assert g.energyInput < 1e-4  # stopped at micro-joules (a 1 N tip load), not at the 1e7 J of later
     assert set(g.bodies) <= set(s["nodes"])
+    return g
+
+
+def test_linear_blow_up_is_caught_by_the_kinetic_energy_check(scene):
+    """Just above the critical step (1.1 x) a linear cantilever's stiffest mode grows ~2.4x a
+    step. The leap-frog balance 1/2 m v-.v+ + U stays constant to round-off through such a
+    blow-up, so the energy check cannot see it; with the step check off, the kinetic energy
+    passing maxKineticRatio x the energy put in (the tip load's work) must stop it (the
+    booked-balance check, which fires first, off here)."""
+    g = _blow_up_at_1_1("maxKineticRatio", rawEnergyTolerance=None)
+    assert g.kineticSeen > g.maxKineticRatio * g.energyInput > 0
+
+
+def test_blow_up_is_caught_by_the_booked_energy_balance(scene):
+    """The same blow-up with the step and kinetic checks off: the leap-frog-corrected balance
+    stays constant, the balance as booked (O.energy.total()) runs away, and that second creation
+    check stops it."""
+    g = _blow_up_at_1_1("as booked", maxKineticRatio=None)
+    assert g.rawEnergyResidual > g.rawEnergyTolerance * g.energyInput > 0
+
+
+def test_booked_balance_check_is_silent_on_a_stable_run(scene):
+    """At 0.8 x the critical step the booked and corrected balances differ only by the
+    vibration's half-step term, at most 1.78 x the energy put in: no alarm over 2000 steps of the
+    undamped cantilever."""
+    scenes.cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, damping=0.0)
+    _without_stepper(0.8)
+    O.trackEnergy = True
+    g = _guard()
+    g.maxKineticRatio = float("inf")
+    for _ in range(2000):
+        O.step()
+    assert not g.message and abs(g.rawEnergyResidual) < g.rawEnergyTolerance * g.energyInput
 
 
 def test_stable_step_runs_through(scene):

@@ -109,11 +109,12 @@ def test_clumps_take_the_fast_path_with_the_same_motion_and_energy(scene):
     assert ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
 
 
-def _damped_sphere(blocked, vel, gravity, steps=200, integrator=FlexNewtonIntegrator):
+def _damped_sphere(blocked, vel, gravity, steps=200, integrator=FlexNewtonIntegrator, aspherical=False):
     from yade import utils
     from yade.minieigenHP import Vector3
     O.reset()
     b = utils.sphere((0, 0, 0), 0.05, material=yf.steel())
+    b.aspherical = aspherical  # an aspherical body sends FlexNewtonIntegrator to NewtonIntegrator's loop
     b.state.blockedDOFs = blocked
     b.state.vel = Vector3(*vel)
     O.bodies.append(b)
@@ -140,3 +141,20 @@ def test_damping_is_booked_on_free_dofs_only(scene):
     e_free, bf = _damped_sphere("", (0, 0, 0), (0, 0, -9.81))
     assert bp.state.pos[2] == bf.state.pos[2] < 0 and bp.state.vel[0] == 1.0
     assert e_free > 0 and e_part == e_free
+
+
+def test_fallback_path_books_damping_on_free_dofs_only(scene):
+    """On NewtonIntegrator's loop (the fallback, here for an aspherical body) the same holds:
+    a driven sphere books no damping, and blocked in x, free in z, it books what the free fall
+    books, while NewtonIntegrator itself books c |v||m g| dt on the driven DOF."""
+    g = (-9.81, 0, 0)
+    e_flex, b = _damped_sphere("xyzXYZ", (1, 0, 0), g, aspherical=True)
+    assert not O.engines[-1].usedFastPath
+    assert e_flex == 0.0 and b.state.pos[0] == pytest.approx(200 * 1e-4)
+    e_newton, _ = _damped_sphere("xyzXYZ", (1, 0, 0), g, integrator=NewtonIntegrator, aspherical=True)
+    assert e_newton == pytest.approx(0.3 * b.state.mass * 9.81 * 1.0 * 1e-4 * 200, rel=1e-9)
+    e_part, bp = _damped_sphere("x", (1, 0, 0), (-9.81, 0, -9.81), aspherical=True)
+    assert not O.engines[-1].usedFastPath
+    e_free, bf = _damped_sphere("", (0, 0, 0), (0, 0, -9.81), aspherical=True)
+    assert bp.state.pos[2] == bf.state.pos[2] < 0 and bp.state.vel[0] == 1.0
+    assert e_free > 0 and e_part == pytest.approx(e_free, rel=1e-12)

@@ -1,0 +1,193 @@
+// yade-flex adapter: the scene check (GPL-2.0-or-later). What and why: FlexSceneCheck.hpp.
+#include "FlexSceneCheck.hpp"
+#include "Flex.hpp"
+#include "FlexFacet.hpp"
+
+#include <core/InteractionLoop.hpp>
+#include <pkg/common/Sphere.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace yade {
+namespace flexa {
+	namespace {
+		// Largest magnitude taken for a coordinate, velocity, radius, mass or inertia: the contact
+		// and energy arithmetic multiplies up to three such values (k d^2, m v^2), which then
+		// stay finite in double precision (1e100^3 = 1e300 < 1.8e308).
+		constexpr Real kHuge = 1e100;
+		bool           finite(Real x) { return std::abs(x) < kHuge; } // (false for NaN and inf too)
+		bool finite(const Vector3r& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
+		bool finite(const Quaternionr& q) { return finite(q.w()) && finite(q.x()) && finite(q.y()) && finite(q.z()); }
+
+		[[noreturn]] void refuse(const Body& b, const std::string& field, const std::string& what)
+		{
+			std::ostringstream os;
+			os << "body #" << b.id << " (" << (b.shape ? b.shape->getClassName() : std::string("no shape")) << "): " << field << " " << what;
+			throw std::invalid_argument(os.str());
+		}
+		template <class V> std::string got(const V& v)
+		{
+			std::ostringstream os;
+			os.precision(6);
+			os << "got " << v;
+			return os.str();
+		}
+		std::string got(const Vector3r& v)
+		{
+			std::ostringstream os;
+			os.precision(6);
+			os << "got (" << v[0] << ", " << v[1] << ", " << v[2] << ")";
+			return os.str();
+		}
+
+		void checkNodes(const Scene* scene, const Body& b, const int* ids, int n)
+		{
+			const auto& bodies = scene->bodies->body;
+			static const char* names[3] = { "node1", "node2", "node3" };
+			for (int a = 0; a < n; ++a) {
+				const int id = ids[a];
+				if (id < 0 || (size_t)id >= bodies.size() || !bodies[id])
+					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a body of the scene");
+				const Shape* s = bodies[id]->shape.get();
+				if (!s || typeid(*s) != typeid(FlexNode))
+					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a FlexNode (it is a " + (s ? s->getClassName() : std::string("body without shape")) + ")");
+				for (int c = 0; c < a; ++c)
+					if (ids[c] == id) refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " repeats " + names[c]);
+			}
+		}
+
+		void checkRadius(const Body& b, Real r)
+		{
+			if (!(finite(r) && r > 0)) refuse(b, "shape.radius", "must be finite (below 1e100) and positive, " + got(r));
+		}
+
+		void checkMaterial(const Body& b, const Material* m)
+		{
+			auto bad = [&](const char* field, Real v, const char* need) {
+				std::ostringstream os;
+				os << "material";
+				if (!m->label.empty()) os << " '" << m->label << "'";
+				os << " (" << m->getClassName() << ")." << field;
+				refuse(b, os.str(), std::string("must be ") + need + ", " + got(v));
+			};
+			const FrictMat* f = dynamic_cast<const FrictMat*>(m);
+			if (!f) return;
+			if (!(std::isfinite(f->young) && f->young > 0)) bad("young", f->young, "finite and positive");
+			if (!(std::isfinite(f->poisson) && f->poisson >= 0)) bad("poisson", f->poisson, "finite and >= 0");
+			if (!(std::isfinite(f->frictionAngle) && f->frictionAngle >= 0)) bad("frictionAngle", f->frictionAngle, "finite and >= 0");
+			if (const FlexMat* fm = dynamic_cast<const FlexMat*>(m)) {
+				if (!(std::isnan(fm->elementYoung) || (std::isfinite(fm->elementYoung) && fm->elementYoung > 0)))
+					bad("elementYoung", fm->elementYoung, "finite and positive (NaN: young)");
+				if (!(fm->beamPoisson > -1 && fm->beamPoisson < 0.5)) bad("beamPoisson", fm->beamPoisson, "in (-1, 0.5)");
+				if (!(std::isfinite(fm->bendingFactor) && fm->bendingFactor >= 0)) bad("bendingFactor", fm->bendingFactor, "finite and >= 0");
+				if (!(fm->yieldStress > 0)) bad("yieldStress", fm->yieldStress, "positive (inf: no yield)");
+				if (!(std::isfinite(fm->hardening) && fm->hardening >= 0)) bad("hardening", fm->hardening, "finite and >= 0");
+				if (!(fm->tensileStrength > 0)) bad("tensileStrength", fm->tensileStrength, "positive (inf: never breaks)");
+				if (!(fm->ruptureStrain > 0)) bad("ruptureStrain", fm->ruptureStrain, "positive (inf: never breaks)");
+				if (!(std::isfinite(fm->wireSlackScale) && fm->wireSlackScale >= 0)) bad("wireSlackScale", fm->wireSlackScale, "finite and >= 0");
+				if (!(fm->wireForceRatio > 0 && fm->wireForceRatio <= 1)) bad("wireForceRatio", fm->wireForceRatio, "in (0, 1]");
+			}
+			if (const FlexMembraneMat* mm = dynamic_cast<const FlexMembraneMat*>(m)) {
+				if (!(std::isfinite(mm->stiffness) && mm->stiffness > 0)) bad("stiffness", mm->stiffness, "finite and positive");
+				if (!(mm->membranePoisson >= 0 && mm->membranePoisson < 0.5)) bad("membranePoisson", mm->membranePoisson, "in [0, 0.5)");
+			}
+		}
+
+		void checkState(const Body& b, bool element)
+		{
+			const State& s = *b.state;
+			if (!finite(s.pos)) refuse(b, "state.pos", "must be finite (below 1e100), " + got(s.pos));
+			if (!finite(s.ori)) refuse(b, "state.ori", "must be finite");
+			if (!finite(s.vel)) refuse(b, "state.vel", "must be finite (below 1e100), " + got(s.vel));
+			if (!finite(s.angVel)) refuse(b, "state.angVel", "must be finite (below 1e100), " + got(s.angVel));
+			if (!(finite(s.mass) && s.mass >= 0)) refuse(b, "state.mass", "must be finite (below 1e100) and >= 0, " + got(s.mass));
+			if (!(finite(s.inertia) && s.inertia.minCoeff() >= 0)) refuse(b, "state.inertia", "must be finite (below 1e100) and >= 0, " + got(s.inertia));
+			if (element || b.isClumpMember() || !b.isDynamic()) return;
+			const unsigned blocked = s.blockedDOFs;
+			if ((blocked & State::DOF_XYZ) != State::DOF_XYZ && s.mass == 0)
+				refuse(b, "state.mass", "is 0 on a free body (give it a mass, or block its DOFs: state.blockedDOFs = 'xyzXYZ')");
+			static const unsigned rot[3] = { State::DOF_RX, State::DOF_RY, State::DOF_RZ };
+			for (int k = 0; k < 3; ++k)
+				if (!(blocked & rot[k]) && s.inertia[k] == 0)
+					refuse(b, "state.inertia", "is 0 about a free rotation axis (" + got(s.inertia) + "; give it an inertia, or block its rotations)");
+		}
+	}
+
+	namespace {
+		template <class E> [[noreturn]] void refuseEngine(const E& e, const char* field, Real v, const char* need)
+		{
+			std::ostringstream os;
+			os.precision(6);
+			os << e.getClassName();
+			if (!e.label.empty()) os << " '" << e.label << "'";
+			os << "." << field << " must be " << need << ", got " << v;
+			throw std::invalid_argument(os.str());
+		}
+		// the engines' parameters that enter every step's arithmetic
+		void checkEngines(const Scene* scene)
+		{
+			for (const auto& e : scene->engines) {
+				if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) {
+					if (!(nw->damping >= 0 && nw->damping < 1)) refuseEngine(*nw, "damping", nw->damping, "in [0, 1)");
+					for (int k = 0; k < 3; ++k)
+						if (!std::isfinite(nw->gravity[k])) refuseEngine(*nw, "gravity", nw->gravity[k], "finite");
+				} else if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get()))
+					for (const auto& f : il->lawDispatcher->functors)
+						if (const auto* law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get())) {
+							if (!(std::isfinite(law->rollingStiffness) && law->rollingStiffness >= 0))
+								refuseEngine(*law, "rollingStiffness", law->rollingStiffness, "finite and >= 0");
+							if (!(std::isfinite(law->rollingFriction) && law->rollingFriction >= 0))
+								refuseEngine(*law, "rollingFriction", law->rollingFriction, "finite and >= 0");
+							if (!(std::isfinite(law->onsetFactor) && law->onsetFactor > 0)) refuseEngine(*law, "onsetFactor", law->onsetFactor, "finite and positive");
+						}
+			}
+		}
+	}
+
+	void checkScene(const Scene* scene, bool force)
+	{
+		static const Scene* lastScene = nullptr;
+		static long         lastIter  = -1;
+		if (!force && scene == lastScene && scene->iter == lastIter) return;
+		checkEngines(scene);
+		std::unordered_set<const Material*> materials;
+		for (const auto& bp : scene->bodies->body) {
+			if (!bp) continue;
+			const Body& b       = *bp;
+			const Shape* sh      = b.shape.get();
+			bool         element = false;
+			if (sh) {
+				if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) {
+					const int ids[2] = { c->node1, c->node2 };
+					checkNodes(scene, b, ids, 2);
+					checkRadius(b, c->radius);
+					element = true;
+				} else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) {
+					const int ids[3] = { f->node1, f->node2, f->node3 };
+					checkNodes(scene, b, ids, 3);
+					checkRadius(b, f->radius);
+					element = true;
+				} else if (const Sphere* s = dynamic_cast<const Sphere*>(sh))
+					checkRadius(b, s->radius);
+			}
+			if (b.state) checkState(b, element);
+			if (b.material && materials.insert(b.material.get()).second) checkMaterial(b, b.material.get());
+		}
+		lastScene = scene;
+		lastIter  = scene->iter;
+	}
+
+	void checkTimeStep(const Scene* scene)
+	{
+		if (!(std::isfinite(scene->dt) && scene->dt > 0)) {
+			std::ostringstream os;
+			os << "O.dt must be finite and positive, got " << scene->dt;
+			throw std::invalid_argument(os.str());
+		}
+	}
+}
+}
