@@ -1,6 +1,10 @@
-"""Runs of the damping module a user can trust (issue 32, item 4): concurrent runs share a
-cache folder safely; a cache file that is not this module is filled again; broken elements are
-counted by kind; the progress line's time left follows the expected end."""
+"""Runs of the damping module a user can trust (issue 32, item 4): a run stopped by a signal
+leaves its rows and a summary saying so; an earlier run's files never stand next to new ones; an
+output or cache folder that cannot be written is refused before the fill; concurrent runs share
+a cache folder and an output folder safely; a cache file that is not this module is filled
+again; broken elements are counted by kind; numerical damping leaves the free fall alone; the
+progress line's time left follows the expected end."""
+import csv
 import gzip
 import json
 import math
@@ -9,20 +13,47 @@ import random
 import shutil
 import signal
 import subprocess
+import time
 
 import pytest
 
 from conftest import REPO
 from test_module import SCRIPT, _run
+from tol import G
 
 
 @pytest.fixture(scope="module")
 def first_run(tmp_path_factory):
-    """A complete --small run, filling the cache."""
+    """A complete --small run (filling the cache) into a folder holding an earlier run's files
+    and a file of the user's."""
     base = tmp_path_factory.mktemp("runs")
-    r, _ = _run(base / "first", base / "cache", "--small", "--no-vtk")
+    out = base / "first"
+    (out / "vtk").mkdir(parents=True)
+    earlier = ["summary.json", "impact.png", "energy.png", "energy.csv", "vtk/flex.pvd", "vtk/flex_nodes_000999.vtu",
+               "vtk/flex_spheres_empty.vtu"]
+    for f in earlier:
+        (out / f).write_text("from an earlier run\n")
+    for f in ("notes.txt", "vtk/mine.txt"):
+        (out / f).write_text("the user's\n")
+    r, _ = _run(out, base / "cache", "--small", "--no-vtk")
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    return base, r
+    return base, r, earlier
+
+
+def _rows(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_an_earlier_runs_files_do_not_survive(first_run):
+    base, _, earlier = first_run
+    out = base / "first"
+    for f in earlier:
+        p = out / f
+        assert not p.exists() or "from an earlier run" not in p.read_text(errors="replace"), f
+    assert not (out / "vtk" / "flex.pvd").exists() and not (out / "vtk" / "flex_nodes_000999.vtu").exists()  # --no-vtk
+    assert (out / "notes.txt").read_text() == "the user's\n" and (out / "vtk" / "mine.txt").exists()  # not ours: kept
+    assert json.loads((out / "summary.json").read_text())["status"] == "done"
 
 
 def _start(out, cache, *args, log=None):
@@ -36,11 +67,62 @@ def _start(out, cache, *args, log=None):
     return p, log
 
 
+def _wait_for(log, text, p, timeout=120):
+    t0 = time.time()
+    while time.time() - t0 < timeout:
+        log.seek(0)
+        if text in log.read():
+            return
+        assert p.poll() is None, f"ended before {text!r}:\n" + log.read()[-3000:]
+        time.sleep(0.2)
+    raise AssertionError(f"no {text!r} in {timeout} s")
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+def test_a_signal_leaves_the_rows_and_an_interrupted_summary(first_run, sig, code):
+    """Stopped during the impact (a long --duration, so that it is still running), the run
+    leaves every row recorded so far, complete, and a summary that says so and agrees with them."""
+    base, _, _ = first_run
+    out = base / f"sig{int(sig)}"
+    p, log = _start(out, base / "cache", "--small", "--no-vtk", "--duration", 0.3)
+    _wait_for(log, "  t = ", p)
+    time.sleep(1.0)
+    p.send_signal(sig)
+    assert p.wait(60) == code
+    log.seek(0)
+    assert "interrupted by " + signal.Signals(sig).name in log.read()
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "interrupted" and s["stage"] == "impact" and s["exit_status"] == code
+    rows = _rows(out / "timeseries.csv")
+    assert len(rows) >= 10 and all(None not in r.values() and "" not in r.values() for r in rows)
+    assert float(rows[-1]["t"]) < 0.3  # cut short
+    assert len(_rows(out / "energy.csv")) == len(rows)
+    assert s["penetration_max"] == pytest.approx(max(float(r["penetration"]) for r in rows), rel=1e-12)
+
+
+@pytest.mark.parametrize("make", ["under a file", "a file"])
+def test_an_output_folder_that_cannot_be_written_is_refused_before_the_fill(tmp_path, make):
+    (tmp_path / "f").write_text("a regular file\n")
+    out = tmp_path / "f" / "out" if make == "under a file" else tmp_path / "f"
+    r, t = _run(out, tmp_path / "cache", "--small", timeout=120)
+    assert r.returncode == 1 and "cannot be written" in r.stderr and str(out) in r.stderr, r.stderr[-2000:]
+    assert "settles until" not in r.stdout and not (tmp_path / "cache").exists()
+
+
+def test_a_cache_folder_that_cannot_be_written_fails_the_run_before_the_fill(tmp_path):
+    (tmp_path / "f").write_text("a regular file\n")
+    r, _ = _run(tmp_path / "out", tmp_path / "f" / "cache", "--small", "--no-vtk", timeout=120)
+    assert r.returncode == 1 and "module cache folder" in r.stderr and "cannot be written" in r.stderr, r.stderr[-2000:]
+    assert "settles until" not in r.stdout
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["status"] == "failed" and s["stage"] == "fill" and "cannot be written" in s["message"]
+
+
 def test_two_runs_fill_a_fresh_cache_once(first_run, scene):
     """Started at once with the same empty cache folder: one fills, the other waits and loads
     that fill; both succeed and the cache is whole afterwards."""
     from yadeflex.module import ModuleParams, cache_problem, filled_module
-    base, _ = first_run
+    base, _, _ = first_run
     cache = base / "shared_cache"
     runs = [_start(base / f"conc{k}", cache, "--small", "--no-vtk") for k in (0, 1)]
     logs = []
@@ -49,10 +131,27 @@ def test_two_runs_fill_a_fresh_cache_once(first_run, scene):
         log.seek(0)
         logs.append(log.read())
     assert sum("built and saved" in lg for lg in logs) == 1 and sum("loaded from" in lg for lg in logs) == 1, [lg[-1500:] for lg in logs]
+    assert [json.loads((base / f"conc{k}" / "summary.json").read_text())["status"] for k in (0, 1)] == ["done", "done"]
     p = ModuleParams.small()
     assert cache_problem(p, str(cache)) is None
     assert not [f for f in os.listdir(cache) if f.startswith(".")]  # no temporary file left
     assert filled_module(p, cache_dir=str(cache))[2]
+
+
+def test_two_runs_into_one_folder_take_turns(first_run):
+    base, _, _ = first_run
+    out = base / "same"
+    runs = [_start(out, base / "cache", "--small", "--no-vtk", "--drop-height", h, log=base / f"same{h}.log") for h in (1.0, 0.8)]
+    logs = []
+    for p, log in runs:
+        assert p.wait(300) == 0
+        log.seek(0)
+        logs.append(log.read())
+    assert sum("waiting for the other run writing into" in lg for lg in logs) == 1, [lg[-1500:] for lg in logs]
+    # the folder holds one run's files, consistent with each other
+    prm, s, rows = json.loads((out / "params.json").read_text()), json.loads((out / "summary.json").read_text()), _rows(out / "timeseries.csv")
+    assert s["status"] == "done" and s["impact_speed_expected"] == pytest.approx(math.sqrt(2 * G * prm["drop_height"]))
+    assert s["penetration_max"] == pytest.approx(max(float(r["penetration"]) for r in rows), rel=1e-12)
 
 
 def _copy_cache(src, dst, params_from, params_to):
@@ -65,7 +164,7 @@ def _copy_cache(src, dst, params_from, params_to):
 
 def test_cache_files_that_are_not_this_module_are_refused_before_loading(first_run, tmp_path):
     from yadeflex.module import ModuleParams, cache_problem
-    base, _ = first_run
+    base, _, _ = first_run
     p = ModuleParams.small()
     cases = {}
     for name in ("whole", "no metadata", "other contents", "other module", "metadata not json", "metadata of something else"):
@@ -93,7 +192,7 @@ def test_a_damaged_cache_is_filled_again(first_run, tmp_path):
     """A valid gzip holding a YADE archive whose body is damaged (a reader can crash on it) under
     this module's key, with the metadata of the good file: filled again with a message."""
     from yadeflex.module import ModuleParams, cache_problem
-    base, _ = first_run
+    base, _, _ = first_run
     p = ModuleParams.small()
     f, _ = _copy_cache(base / "cache", tmp_path / "cache", p, p)
     raw = bytearray(gzip.open(f).read())
@@ -121,7 +220,7 @@ def test_broken_elements_are_counted_by_kind(first_run, scene):
     from yade.minieigenHP import Vector3
     from yadeflex.impact import BrokenElements
     from yadeflex.module import ModuleParams, filled_module
-    base, _ = first_run
+    base, _, _ = first_run
     p = ModuleParams.small()
     ids, _, _ = filled_module(p, cache_dir=str(base / "cache"))
     labels = {b.id: b.material.label for b in scene.bodies if b is not None}
@@ -152,6 +251,22 @@ def test_broken_elements_of_every_module_and_the_rope():
     c = BrokenElements(ids).counts([12, 2, 14, 15, 5, 22, 99])
     assert c == dict(broken_wire_legs=2, broken_ring_segments=1, broken_rope_segments=1, broken_lining_facets=2,
                      broken_other_elements=1, broken_elements_total=7)
+
+
+def test_numerical_damping_leaves_the_free_fall_alone(first_run):
+    """--damping 0.2: the boulder falls freely up to its first contact (fall height and time as
+    undamped, the speed sqrt(2 g h)); the damping acts from there on."""
+    base, _, _ = first_run
+    r, _ = _run(base / "damped", base / "cache", "--small", "--no-vtk", "--damping", 0.2)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    damped = json.loads((base / "damped" / "summary.json").read_text())
+    free = json.loads((base / "first" / "summary.json").read_text())["free_fall_check"]
+    ff = damped["free_fall_check"]
+    assert abs(ff["v_measured"] / ff["v_expected"] - 1) < 1e-3
+    assert ff["fall_height"] == pytest.approx(free["fall_height"], rel=1e-4)
+    assert ff["t"] == pytest.approx(free["t"], rel=0.02)
+    assert ff["v_measured"] == pytest.approx(math.sqrt(2 * G * 1.0), rel=1e-3)  # --small: 1 m
+    assert damped["numerical_damping_share"] > 0.05
 
 
 # ---- when the run ends, and the time left ---------------------------------------------------
