@@ -5,6 +5,7 @@ a cache folder and an output folder safely; a cache file that is not this module
 again; broken elements are counted by kind; numerical damping leaves the free fall alone; the
 progress line's time left follows the expected end."""
 import csv
+import fcntl
 import gzip
 import json
 import math
@@ -331,3 +332,29 @@ def test_a_given_duration_counts_from_the_first_contact():
     assert times.end == pytest.approx(1.052) and times.expected_end() == times.end
     times.observe(1.01, 0.1, touching=True)  # rebound: the given duration still holds
     assert times.end == pytest.approx(1.052)
+
+
+# ---- setup ----------------------------------------------------------------------------------
+
+def test_setup_waits_for_another_setup(tmp_path):
+    """Two setups with one build folder run one after the other: while the lock is held (here
+    by the test, as a first setup would), a second waits before it touches the YADE headers,
+    the build or the install; released, it goes on (here to a quick stop: YADE_SOURCE_DIR points
+    at an empty folder, so that nothing is built)."""
+    build = tmp_path / "build"
+    build.mkdir()
+    env = dict(os.environ, YADE_PREFIX=str(tmp_path / "prefix"), BUILD_DIR=str(build), YADE_SOURCE_DIR=str(tmp_path / "no_source"))
+    lock = open(build / ".setup.lock", "w")
+    fcntl.flock(lock, fcntl.LOCK_EX)
+    p = subprocess.Popen(["bash", os.path.join(REPO, "scripts", "setup")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=env, cwd=str(tmp_path))
+    try:
+        time.sleep(3)
+        assert p.poll() is None  # waiting
+    finally:
+        lock.close()  # releases the lock
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 1
+    assert "waiting for another setup" in err and "does not hold YADE's source" in err, err[-2000:]
+    assert err.index("waiting for another setup") < err.index("does not hold YADE's source")
+    assert not (tmp_path / "prefix").exists()
