@@ -74,8 +74,6 @@ def parse():
     return a, p
 
 
-
-
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
 VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
 EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)
@@ -217,11 +215,10 @@ class ImpactRun:
                         cache_file=self.cache_file, contact_law="linear Cundall-Strack (yade-flex law for all sphere and element contacts)",
                         rolling_friction=p.preset()["rolling_friction"], numerical_damping=p.damping,
                         numerical_damping_from="the boulder's first contact (its free fall undamped)"))
-        R0 = 0.5 * p.diameter
         # bulging and ring forces of the module hit (the first, centred on the axis)
+        self.R0 = 0.5 * p.diameter
         self.mid = [n for n in ids["mesh_nodes"] if abs(O.bodies[n].state.pos[2] - 0.5 * p.height) < 0.15 * p.height]
         self.ring_ids = dict(top=ids["ring_top"], bottom=ids["ring_bottom"], rope=ids.get("rope", []))
-        self.R0 = R0
         self.el = next(e for e in O.engines if e.label == "flexElements")
         # contacts found late (a missed or suppressed contact starts deep: its spring energy comes from nothing)
         self.law = yf.contact_law()
