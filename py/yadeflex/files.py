@@ -107,9 +107,10 @@ class ResultsFolder:
     Opening it: creates the folder, refuses one this process cannot write (ValueError naming the
     folder and the reason, before anything costly runs), takes an exclusive lock (a second run
     into the same folder waits for the first), and removes what an earlier run wrote there: the
-    given `files`, and in each `folders` entry (subfolder name -> regular expression) the files
-    whose names match (the subfolder is removed if that empties it). Anything else in the folder
-    is left alone. Close it (or use it in a `with` block) to release the lock."""
+    given `files` and the temporary files they are written through (write_atomic's .tmp-*,
+    CsvStream's NAME.tmp), and in each `folders` entry (subfolder name -> regular expression)
+    the files whose names match (the subfolder is removed if that empties it). Anything else in
+    the folder is left alone. Close it (or use it in a `with` block) to release the lock."""
 
     LOCK = ".lock"
 
@@ -125,9 +126,7 @@ class ResultsFolder:
         self._lock = locked(os.path.join(self.path, self.LOCK), waiting)
         self._lock.__enter__()
         try:
-            for name in files:
-                with contextlib.suppress(FileNotFoundError):
-                    os.unlink(os.path.join(self.path, name))
+            clear_matching(self.path, "|".join([r"\.tmp-.*"] + [re.escape(n) + r"(\.tmp)?" for n in files]), remove_empty=False)
             for sub, pattern in (folders or {}).items():
                 clear_matching(os.path.join(self.path, sub), pattern)
         except OSError as e:
@@ -153,9 +152,9 @@ class ResultsFolder:
         self.close()
 
 
-def clear_matching(folder, pattern):
-    """Remove the files of folder whose names match the regular expression pattern (whole name)
-    and the folder itself if that leaves it empty. A missing folder is fine."""
+def clear_matching(folder, pattern, remove_empty=True):
+    """Remove the files of folder whose names match the regular expression pattern (whole name),
+    and with remove_empty the folder itself if that leaves it empty. A missing folder is fine."""
     rx = re.compile(pattern)
     try:
         names = os.listdir(folder)
@@ -165,5 +164,6 @@ def clear_matching(folder, pattern):
         if rx.fullmatch(n):
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(os.path.join(folder, n))
-    with contextlib.suppress(OSError):
-        os.rmdir(folder)  # only if empty
+    if remove_empty:
+        with contextlib.suppress(OSError):
+            os.rmdir(folder)  # only if empty

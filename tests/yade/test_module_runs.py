@@ -30,8 +30,8 @@ def first_run(tmp_path_factory):
     base = tmp_path_factory.mktemp("runs")
     out = base / "first"
     (out / "vtk").mkdir(parents=True)
-    earlier = ["summary.json", "impact.png", "energy.png", "energy.csv", "vtk/flex.pvd", "vtk/flex_nodes_000999.vtu",
-               "vtk/flex_spheres_empty.vtu"]
+    earlier = ["summary.json", "impact.png", "energy.png", "energy.csv", "timeseries.csv.tmp", ".tmp-x1y2.json", "vtk/flex.pvd",
+               "vtk/flex_nodes_000999.vtu", "vtk/flex_spheres_empty.vtu"]
     for f in earlier:
         (out / f).write_text("from an earlier run\n")
     for f in ("notes.txt", "vtk/mine.txt"):
