@@ -32,6 +32,7 @@ import math
 import os
 import random
 import sys
+import tempfile
 
 from yade import O
 from yade.minieigenHP import Vector3, Quaternion
@@ -388,32 +389,104 @@ def build_filled(params, progress=None):
     return ids
 
 
+CACHE_FORMAT = "yadeflex filled module"
+
+
+def cache_files(params, cache_dir):
+    """(scene file, its metadata file, lock file) of params' filled module in cache_dir."""
+    stem = os.path.join(cache_dir, f"module-{params.fill_key()}")
+    return stem + ".yade.gz", stem + ".json", stem + ".lock"
+
+
+def _sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def cache_problem(params, cache_dir):
+    """Why the cached module of params in cache_dir cannot be loaded, checked before YADE reads
+    the file (a damaged or foreign archive can crash YADE's reader or make it allocate without
+    bound): None if it can, "missing" if there is none, else a sentence. The metadata file
+    written with the scene names the format and the key and holds the scene's size and SHA-256:
+    a file of another module under this key, another YADE scene, a partial or damaged file, or
+    one saved by a yade-flex without metadata are all refused."""
+    f, meta_file, _ = cache_files(params, cache_dir)
+    if not os.path.exists(f):
+        return "missing"
+    try:
+        with open(meta_file) as fh:
+            meta = json.load(fh)
+    except FileNotFoundError:
+        return f"has no metadata file {os.path.basename(meta_file)} (saved by an older yade-flex, or its save was cut short)"
+    except (OSError, ValueError) as e:
+        return f"has an unreadable metadata file {os.path.basename(meta_file)} ({e})"
+    if not isinstance(meta, dict) or meta.get("format") != CACHE_FORMAT:
+        return f"has a metadata file {os.path.basename(meta_file)} that does not describe a filled module"
+    if meta.get("key") != params.fill_key():
+        return f"is described as the filled module {meta.get('key')!r}, not {params.fill_key()!r}"
+    if meta.get("bytes") != os.path.getsize(f) or meta.get("sha256") != _sha256(f):
+        return "is not the file its metadata describes (other size or checksum: damaged, cut short, or replaced)"
+    return None
+
+
 def filled_module(params, cache_dir=None, progress=None):
     """The settled module on O: loaded from the cache when it holds this key (with
-    params.engines(params.damping) set), else built and saved there. A cache file this build
-    cannot read (classes changed since it was saved) is filled again. progress(stage, steps,
-    kinetic energy [J], its target [J]) is called while filling (steps 0: a stage starts).
-    Returns (ids, cache_file, from_cache)."""
+    params.engines(params.damping) set), else built and saved there. A cache file that
+    cache_problem() refuses, or that this build cannot read (classes changed since it was
+    saved), is filled again, with a message. progress(stage, steps, kinetic energy [J], its
+    target [J]) is called while filling (steps 0: a stage starts). Returns (ids, cache_file,
+    from_cache).
+
+    Runs sharing a cache folder: the module is looked up and filled under a lock on its own
+    lock file, so a second run asking for a module another run is filling waits for it and
+    loads it; the scene and its metadata are each written to a temporary file and renamed into
+    place, so a run stopped while saving leaves the old cache or none, never a part. A cache
+    folder that cannot be written is refused before the fill."""
     params.validate()
     cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
-    os.makedirs(cache_dir, exist_ok=True)
-    f = os.path.join(cache_dir, f"module-{params.fill_key()}.yade.gz")
-    if os.path.exists(f):
-        try:
-            O.load(f)
-            O.engines = params.engines(params.damping)
-            return json.loads(O.tags["yadeflex_module"]), f, True
-        except RuntimeError as e:  # saved by a build whose classes have other attributes
-            print(f"yadeflex: the cached module {f} cannot be read by this build ({e}); filling it again", file=sys.stderr)
-            O.reset()
-    build_filled(params, progress=progress)
-    # without engines: an engine's attributes change more often than the bodies', and a
-    # cache must stay readable (the impact sets its own engines anyway)
-    engines_ = O.engines
-    O.engines = []
-    O.save(f + ".tmp.yade.gz")
-    O.engines = engines_
-    os.replace(f + ".tmp.yade.gz", f)
+    f, meta_file, lock = cache_files(params, cache_dir)
+    key = params.fill_key()
+    from .files import locked, write_json
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=cache_dir, prefix=f".{os.path.basename(f)}.", suffix=".yade.gz")  # where a fill is saved
+        os.close(fd)
+    except OSError as e:
+        raise ValueError(f"the module cache folder {cache_dir} cannot be written: {e.strerror or e}") from None
+    try:
+        with locked(lock, waiting=lambda: print(f"yadeflex: waiting for another run that fills the module {f}", flush=True)):
+            problem = cache_problem(params, cache_dir)
+            if problem is None:
+                try:
+                    O.load(f)
+                    stored = O.tags["yadeflex_module_key"] if "yadeflex_module_key" in O.tags.keys() else None
+                    if stored == key:
+                        O.engines = params.engines(params.damping)
+                        return json.loads(O.tags["yadeflex_module"]), f, True
+                    problem = f"holds the module {stored!r}, not {key!r}"
+                except Exception as e:  # saved by a build whose classes have other attributes
+                    problem = f"cannot be read by this build ({type(e).__name__}: {e})"
+                O.reset()
+            if problem != "missing":
+                print(f"yadeflex: the cached module {f} {problem}; filling it again", file=sys.stderr, flush=True)
+            build_filled(params, progress=progress)
+            O.tags["yadeflex_module_key"] = key
+            # without engines: an engine's attributes change more often than the bodies', and a
+            # cache must stay readable (the impact sets its own engines anyway)
+            engines_ = O.engines
+            O.engines = []
+            O.save(tmp)
+            O.engines = engines_
+            meta = dict(format=CACHE_FORMAT, key=key, bytes=os.path.getsize(tmp), sha256=_sha256(tmp))
+            os.chmod(tmp, 0o644)  # mkstemp makes it 0600
+            os.replace(tmp, f)
+            write_json(meta_file, meta)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
     return json.loads(O.tags["yadeflex_module"]), f, False  # as a load returns it (lists, not tuples)
 
 
