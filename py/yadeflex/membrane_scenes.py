@@ -80,6 +80,11 @@ def circular_membrane(rings=12, radius=0.5, pressure=100.0, stiffness=20e3, pois
     """Circular membrane (radius [m], `rings` rings of nodes, about 6k nodes on ring k, clamped
     edge), no prestress, under a uniform pressure [Pa] (+z, follower). Hencky's solution
     for nu = 0.3: centre deflection w0 = 0.662 a (p a / (E t))^(1/3)."""
+    rings = C.integer("rings", rings, 1, C.MAX_BODIES)
+    C.body_budget("rings", rings, 9.0 * rings * (rings + 1) + 1)
+    _check_square(1, radius, damping)
+    C.number("pressure", pressure, C.Range(unit="Pa"))
+    _check_membrane(stiffness, poisson)
     O.reset()
     mat = M.membrane_material(stiffness, 0.3, poisson=poisson, tension_only=False)
     pts = [(0.0, 0.0, 0.0)]

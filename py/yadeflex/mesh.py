@@ -58,13 +58,16 @@ def _spiral_column(s, k):
     return s + ((s + k) % 2)
 
 
-def _build(nx, ny, position, material, wire_radius, wrap="", blame=("size", None)):
+def _mesh_budget(nx, ny, blame):
+    """Refuse a mesh of nx x ny legs that passes the body budget, naming blame = (name, value)."""
+    C.body_budget(*blame, nx * ny + (nx + 1) * (ny + 1) // 2)
+
+
+def _build(nx, ny, position, material, wire_radius, wrap=""):
     """Nodes at position(i, k); spirals as chains of cylinders. wrap 'x': column nx is column 0
-    (the last spiral hooks into the first); 'y': row ny is row 0 (each spiral closes on itself).
-    blame: (name, value) of the argument named if the mesh passes the body budget."""
+    (the last spiral hooks into the first); 'y': row ny is row 0 (each spiral closes on itself)."""
     r = B._positive("wire radius", wire_radius)
     mat = B._material(material)
-    C.body_budget(*blame, nx * ny + (nx + 1) * (ny + 1) // 2)
     ids = {}
     for (i, k) in _lattice(nx, ny):
         if (wrap == "x" and i == nx) or (wrap == "y" and k == ny):
@@ -91,6 +94,15 @@ def _counts(length, pitch, what, even=False):
     return n
 
 
+def panel_counts(width, height, dx=TECCO_G65_DX, dy=TECCO_G65_DY):
+    """(a, h, nx, ny) of a chain-link panel: half-diagonals [m] and legs across and along the
+    spirals; BadValue for sizes that are not positive or a panel over the body budget."""
+    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
+    nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
+    _mesh_budget(nx, ny, ("panel width", width) if nx > ny else ("panel height", height))
+    return a, h, nx, ny
+
+
 def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
                      origin=(0, 0, 0)):
     """Planar chain-link panel in the plane z = origin.z: x across the spirals (longitudinal,
@@ -98,10 +110,8 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     to whole half-diagonals (the returned params give the built ones).
     Returns dict(nodes={(i, k): id}, cylinders, spirals, edges, params)."""
     o = B.check_finite("panel origin", origin)
-    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
-    nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
-    blame = ("panel width", width) if nx > ny else ("panel height", height)
-    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius, blame=blame)
+    a, h, nx, ny = panel_counts(width, height, dx, dy)
+    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
     edges = dict(left=[ids[p] for p in sorted(ids) if p[0] == 0], right=[ids[p] for p in sorted(ids) if p[0] == nx],
                  bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny])
     return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges,
@@ -143,8 +153,8 @@ def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G6
         return c + Vector3(R * math.cos(phi), R * math.sin(phi), z)
 
     around, up = (nx, ny) if spirals == "vertical" else (ny, nx)
-    blame = ("diameter", diameter) if around > up else ("height", height)
-    ids, sp = _build(nx, ny, pos, material, wire_radius, wrap=wrap, blame=blame)
+    _mesh_budget(nx, ny, ("diameter", diameter) if around > up else ("height", height))
+    ids, sp = _build(nx, ny, pos, material, wire_radius, wrap=wrap)
     top = max(level(p) for p in ids)
     edges = dict(bottom=[ids[p] for p in sorted(ids) if level(p) == 0], top=[ids[p] for p in sorted(ids) if level(p) == top],
                  seam=[ids[p] for p in sorted(ids) if seam_of(p)])

@@ -79,7 +79,7 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     yadeflex.mesh) or 'transverse' (across the spirals, x). width, height [m] along x, y; damping [-] Cundall's
     local damping (quasi-static); clamp: 'pinned' (edge knots held in translation, free to turn,
     as wires wrapped around a clamping bar) or 'fixed'. Returns dict(held, driven, axis, length, loaded_width, ...)."""
-    from .mesh import chain_link_panel
+    from .mesh import chain_link_panel, panel_counts
     from .wire import tecco_wire
     C.choice("direction", direction, ("longitudinal", "transverse"))
     C.choice("clamp", clamp, ("pinned", "fixed"))
@@ -87,6 +87,7 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     engine_args(damping=damping)
     if material is not None:
         B._material(material, append=False)
+    panel_counts(width, height)
     O.reset()
     mat = material if material is not None else tecco_wire(seed=seed)
     p = chain_link_panel(width, height, mat)
