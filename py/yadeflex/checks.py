@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 # Largest scene a builder agrees to make. A body with its contacts takes about 8.5 kB (measured:
 # 64,000 touching spheres in YADE 2023.02a, 6 contacts each, after one step), so this limit keeps
-# a scene near 4 GB; the default damping module has about 7,000 bodies, seven tied modules about
-# 45,000. A call that would pass it is refused before anything is built.
+# a scene near 4 GB; the default damping module has under 10,000 bodies, seven tied modules under
+# 70,000 (ModuleParams.body_estimate). A call that would pass it is refused before anything is built.
 MAX_BODIES = 500_000
 BYTES_PER_BODY = 8.5e3
 
@@ -53,7 +53,9 @@ class Range:
 
     def text(self):
         u = f" {self.unit}" if self.unit else ""
-        if self.hi == math.inf:
+        if self.hi == math.inf and self.lo == -math.inf:
+            t = "any finite value" + u
+        elif self.hi == math.inf:
             t = ("> " if self.lo_open else ">= ") + _fmt(self.lo) + u
         elif self.lo == -math.inf:
             t = ("< " if self.hi_open else "<= ") + _fmt(self.hi) + u
