@@ -6,9 +6,9 @@
 # Builds (or loads from the cache) the filled module, adds the boulder, runs the impact and
 # writes into --out: params.json, timeseries.csv, energy.csv, summary.json, plots (*.png)
 # and, unless --no-vtk, a VTK time series (vtk/flex.pvd) for ParaView.
-# Exit status: 0 done; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the energy
-# balance residual exceeded --max-residual; 1 bad parameters or another error.
-import argparse
+# Exit status (also in --help): 0 done; 1 bad input (one line on stderr names the option and the values allowed) or
+# another error; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the energy
+# balance residual exceeded --max-residual. The options and their checks: yadeflex/module_cli.py.
 import csv
 import dataclasses
 import json
@@ -24,44 +24,8 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
-
-
-def parse():
-    me = next((k for k, a in enumerate(sys.argv) if a.endswith("damping_module.py")), 0)
-    ap = argparse.ArgumentParser(prog="damping_module.py", description="Damping module hit by a boulder (yade-flex).")
-    ap.add_argument("--out", default="results/module", help="results folder")
-    ap.add_argument("--duration", type=float, default=None, help="simulated time after first contact [s] (default: until rebound + 20%%, max 0.3 s)")
-    ap.add_argument("--cache-dir", default=None, help="where filled modules are cached (default ~/.cache/yadeflex/modules)")
-    ap.add_argument("--small", action="store_true", help="reduced module for tests: 0.4 m x 0.3 m, 60-80 mm grains, 100 kg boulder")
-    ap.add_argument("--record-every", type=float, default=2e-4, help="time-series interval [s]")
-    ap.add_argument("--vtk-every", type=float, default=5e-3, help="VTK frame interval [s]")
-    ap.add_argument("--no-vtk", action="store_true")
-    ap.add_argument("--min-dt-fraction", type=float, default=0.01, help="stop if the stable time step falls below this fraction of its value at impact")
-    ap.add_argument("--max-residual", type=float, default=0.02, help="largest accepted energy-balance residual, fraction of the impact energy")
-    for f in dataclasses.fields(ModuleParams):
-        name = "--" + f.name.replace("_", "-")
-        if f.type in ("bool", bool):
-            ap.add_argument(name, type=lambda s: s.lower() in ("1", "true", "yes"), default=None, help=f"[{f.default}]")
-        elif f.name == "impact_offset":
-            ap.add_argument(name, type=float, nargs=2, default=None, help="[0 0] m")
-        elif f.name in ("fill", "boulder_shape"):
-            ap.add_argument(name, default=None, help=f"[{f.default}]")
-        elif f.name in ("seed", "n_modules"):
-            ap.add_argument(name, type=int, default=None, help=f"[{f.default}]")
-        else:
-            ap.add_argument(name, type=float, default=None, help=f"[{f.default}]")
-    a = ap.parse_args(sys.argv[me + 1:])
-    if not 0 <= a.min_dt_fraction < 1:
-        ap.error(f"--min-dt-fraction must be in [0, 1), got {a.min_dt_fraction}")
-    p = ModuleParams()
-    if a.small:
-        p = ModuleParams.small()
-    for f in dataclasses.fields(ModuleParams):
-        v = getattr(a, f.name)
-        if v is not None:
-            setattr(p, f.name, tuple(v) if f.name == "impact_offset" else v)
-    return a, p
+from yadeflex.module import filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
+from yadeflex.module_cli import parse, OptionError, PROG  # noqa: E402
 
 
 class Progress:
@@ -106,11 +70,11 @@ def part_name(bid, ids):
 
 
 def main():
-    a, p = parse()
+    me = next((k for k, a in enumerate(sys.argv) if a.endswith("damping_module.py")), 0)
     try:
-        p.validate()
-    except ValueError as e:
-        print(f"damping_module: bad parameter: {e}", file=sys.stderr)
+        a, p = parse(sys.argv[me + 1:])
+    except OptionError as e:  # every option is checked before anything is filled or built
+        print(f"{PROG}: {e}", file=sys.stderr)
         return 1
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
@@ -158,10 +122,10 @@ def main():
     O.energy.clear()
     O.timingEnabled = True
     with open(os.path.join(out, "params.json"), "w") as f:
-        json.dump(dict(dataclasses.asdict(p), boulder_size=s, impact_speed=p.impact_speed(), fill_top=top0, cache_file=cache_file,
+        # the values used (the fill preset's resolved), and the parameters as given (None: the preset's)
+        json.dump(dict(p.resolved(), impact_speed=p.impact_speed(), fill_top=top0, cache_file=cache_file,
                        contact_law="linear Cundall-Strack (yade-flex law for all sphere and element contacts)",
-                       rolling_friction=p.preset()["rolling_friction"],
-                       numerical_damping=p.damping), f, indent=1)
+                       numerical_damping=p.damping, given=dataclasses.asdict(p)), f, indent=1)
     # --- run
     wall = ids["wall"]
     base = ids["base_nodes"]
