@@ -99,6 +99,8 @@ def cylinder(node1, node2, radius, material):
             raise ValueError(f"cylinder end {n!r} is not the id of an existing body")
         if not isinstance(O.bodies[n].shape, FlexNode):
             raise ValueError(f"cylinder end #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    if node1 == node2:
+        raise C.BadValue("cylinder ends", (node1, node2), "two different nodes (both ends are the same node)")
     C.body_budget("cylinder", (node1, node2), 1)
     b = Body()
     b.shape = FlexCylinder(node1=node1, node2=node2, radius=r)

@@ -81,6 +81,8 @@ def facet(node1, node2, node3, material, thickness):
             raise ValueError(f"facet corner {n!r} is not the id of an existing body")
         if not isinstance(O.bodies[n].shape, FlexNode):
             raise ValueError(f"facet corner #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    if len(set(ids)) < 3:
+        raise C.BadValue("facet corners", ids, "three different nodes (two corners are the same node)")
     C.body_budget("facet", ids, 1)
     b = Body()
     b.shape = FlexFacet(node1=node1, node2=node2, node3=node3, radius=0.5 * t)

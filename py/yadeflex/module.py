@@ -162,7 +162,7 @@ class ModuleParams:
         """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
         allowed, before anything is built (LIMITS, FILLS, the body budget MAX_BODIES)."""
         for k, rng in LIMITS.items():
-            if getattr(self, k) is not None:
+            if getattr(self, k) is not None and not (k == "drop_height" and self.impact_velocity is not None):
                 rng.check(k, getattr(self, k))
         C.choice("fill", self.fill, tuple(sorted(FILLS)))
         C.choice("boulder_shape", self.boulder_shape, BOULDER_SHAPES)
@@ -201,7 +201,8 @@ class ModuleParams:
         mesh = 1.5 * up * around + 2 * around  # nodes, legs, rings
         cells = (2 * math.pi * max(r_lin, 0.0) / 0.08 + 1) * (self.height / 0.08 + 2)
         rope = 2 * (math.pi * self.diameter + 6 * (self.diameter + self.module_gap)) / 0.1 if self.with_rope() else 0.0
-        return self.n_modules * (grains + mesh + 3 * cells + 100) + rope + 65
+        container = 100  # the filling's rigid container (48 x 2 facets) and the slab
+        return self.n_modules * (grains + mesh + 3 * cells + container) + rope + 65  # 65: the cube's clump and 64 members
 
     def _too_many_bodies(self, n):
         """BadValue for a module over MAX_BODIES, naming the size that departs most from the

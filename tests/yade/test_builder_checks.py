@@ -24,6 +24,7 @@ BAD = [
     (yf.node, lambda c: (((0, 0, 0), 0.01), dict(fixed="maybe")), "fixed"),
     (yf.cylinder, lambda c: ((c["n0"], c["n1"], NAN, c["steel"]), {}), "cylinder radius"),
     (yf.cylinder, lambda c: ((c["n0"], 999, 0.01, c["steel"]), {}), "999"),
+    (yf.cylinder, lambda c: ((c["n0"], c["n0"], 0.01, c["steel"]), {}), "cylinder ends"),
     (yf.chain, lambda c: ((P2, 0.01, c["steel"]), dict(segments=0)), "segments"),
     (yf.chain, lambda c: ((P2, 0.01, c["steel"]), dict(segments=10 ** 9)), "segments"),
     (yf.chain, lambda c: ((P2, 0.01, c["steel"]), dict(segments=2.5)), "segments"),
@@ -63,6 +64,7 @@ BAD = [
     (yf.membrane_material, lambda c: ((250e3, 0.3), dict(strength=NAN)), "strength"),
     (yf.geotextile, lambda c: ((), dict(areal_density=NAN)), "areal_density"),
     (yf.facet, lambda c: ((c["n0"], c["n1"], c["n2"], c["gtx"], NAN), {}), "thickness"),
+    (yf.facet, lambda c: ((c["n0"], c["n1"], c["n0"], c["gtx"], 0.002), {}), "facet corners"),
     (yf.triangle_mesh, lambda c: (([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1, 2)], c["gtx"], 0.002), dict(fixed=[9])), "fixed"),
     (yf.sheet, lambda c: ((10 ** 6, 10 ** 6, (1, 1), 0.002, c["gtx"]), {}), "nx"),
     (yf.sheet, lambda c: ((4, 4, (1, 1, 1), 0.002, c["gtx"]), {}), "sheet size"),
@@ -162,13 +164,13 @@ def ctx(scene):
 @pytest.mark.parametrize("fn, call, text", BAD, ids=[f"{f.__qualname__}-{k}" for k, (f, _, _) in enumerate(BAD)])
 def test_bad_call_names_the_argument_and_builds_nothing(ctx, fn, call, text):
     args, kw = call(ctx)
-    before = [b.id for b in O.bodies if b is not None]
+    before, n = [b.id for b in O.bodies if b is not None], len(O.bodies)
     t0 = time.time()
     with pytest.raises(ValueError) as err:
         fn(*args, **kw)
     assert time.time() - t0 < 2, "refused at once, before building"
     assert text in str(err.value) and "\n" not in str(err.value), str(err.value)
-    assert [b.id for b in O.bodies if b is not None] == before, "the scene keeps the bodies it had, and no more"
+    assert [b.id for b in O.bodies if b is not None] == before and len(O.bodies) == n, "the scene keeps the bodies it had, and no more"
 
 
 @pytest.mark.parametrize("word, value", [(True, True), (0, False), ("yes", True), ("No", False), ("TRUE", True), ("0", False)])
