@@ -9,10 +9,11 @@
 # wrote there are removed first; the time series are on disk row by row, and summary.json says
 # how the run ended ("status": done, unstable, interrupted, failed; "running" if the process
 # was killed outright), so a run stopped anyhow leaves what it recorded.
-# Exit status: 0 done; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the energy
-# balance residual exceeded --max-residual; 1 bad parameters, an output folder that cannot be
-# written, or another error; 130 interrupted by SIGINT (Ctrl-C), 143 by SIGTERM.
-import argparse
+# Exit status (also in --help): 0 done; 1 bad input (one line on stderr names the option and the
+# values allowed; nothing is filled or written), an output folder that cannot be written, or another
+# error; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the
+# energy balance residual exceeded --max-residual; 130 interrupted by SIGINT (Ctrl-C), 143 by
+# SIGTERM. The options and their checks: yadeflex/module_cli.py.
 import contextlib
 import dataclasses
 import math
@@ -31,47 +32,11 @@ from yade.minieigenHP import Vector3  # noqa: E402
 import yadeflex as yf  # noqa: E402
 from yadeflex.files import CsvStream, ResultsFolder, write_json  # noqa: E402
 from yadeflex.impact import BrokenElements, ImpactTimes, Progress, part_name, part_names  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
+from yadeflex.module import filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
+from yadeflex.module_cli import parse, OptionError, PROG  # noqa: E402
 from yadeflex.output import VtkRecorder  # noqa: E402
 
 
-
-
-def parse():
-    me = next((k for k, a in enumerate(sys.argv) if a.endswith("damping_module.py")), 0)
-    ap = argparse.ArgumentParser(prog="damping_module.py", description="Damping module hit by a boulder (yade-flex).")
-    ap.add_argument("--out", default="results/module", help="results folder")
-    ap.add_argument("--duration", type=float, default=None, help="simulated time after first contact [s] (default: until rebound + 20%%, max 0.3 s)")
-    ap.add_argument("--cache-dir", default=None, help="where filled modules are cached (default ~/.cache/yadeflex/modules)")
-    ap.add_argument("--small", action="store_true", help="reduced module for tests: 0.4 m x 0.3 m, 60-80 mm grains, 100 kg boulder")
-    ap.add_argument("--record-every", type=float, default=2e-4, help="time-series interval [s]")
-    ap.add_argument("--vtk-every", type=float, default=5e-3, help="VTK frame interval [s]")
-    ap.add_argument("--no-vtk", action="store_true")
-    ap.add_argument("--min-dt-fraction", type=float, default=0.01, help="stop if the stable time step falls below this fraction of its value at impact")
-    ap.add_argument("--max-residual", type=float, default=0.02, help="largest accepted energy-balance residual, fraction of the impact energy")
-    for f in dataclasses.fields(ModuleParams):
-        name = "--" + f.name.replace("_", "-")
-        if f.type in ("bool", bool):
-            ap.add_argument(name, type=lambda s: s.lower() in ("1", "true", "yes"), default=None, help=f"[{f.default}]")
-        elif f.name == "impact_offset":
-            ap.add_argument(name, type=float, nargs=2, default=None, help="[0 0] m")
-        elif f.name in ("fill", "boulder_shape"):
-            ap.add_argument(name, default=None, help=f"[{f.default}]")
-        elif f.name in ("seed", "n_modules"):
-            ap.add_argument(name, type=int, default=None, help=f"[{f.default}]")
-        else:
-            ap.add_argument(name, type=float, default=None, help=f"[{f.default}]")
-    a = ap.parse_args(sys.argv[me + 1:])
-    if not 0 <= a.min_dt_fraction < 1:
-        ap.error(f"--min-dt-fraction must be in [0, 1), got {a.min_dt_fraction}")
-    p = ModuleParams()
-    if a.small:
-        p = ModuleParams.small()
-    for f in dataclasses.fields(ModuleParams):
-        v = getattr(a, f.name)
-        if v is not None:
-            setattr(p, f.name, tuple(v) if f.name == "impact_offset" else v)
-    return a, p
 
 
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
@@ -211,10 +176,11 @@ class ImpactRun:
         O.energy.clear()
         O.timingEnabled = True
         write_json(self.folder.file("params.json"),
-                   dict(dataclasses.asdict(p), boulder_size=self.size, impact_speed=p.impact_speed(), fill_top=self.top0,
+                   # the values used (the fill preset's resolved), and the parameters as given (None: the preset's)
+                   dict(p.resolved(), impact_speed=p.impact_speed(), fill_top=self.top0,
                         cache_file=self.cache_file, contact_law="linear Cundall-Strack (yade-flex law for all sphere and element contacts)",
-                        rolling_friction=p.preset()["rolling_friction"], numerical_damping=p.damping,
-                        numerical_damping_from="the boulder's first contact (its free fall undamped)"))
+                        numerical_damping=p.damping, numerical_damping_from="the boulder's first contact (its free fall undamped)",
+                        given=dataclasses.asdict(p)))
         # bulging and ring forces of the module hit (the first, centred on the axis)
         self.R0 = 0.5 * p.diameter
         self.mid = [n for n in ids["mesh_nodes"] if abs(O.bodies[n].state.pos[2] - 0.5 * p.height) < 0.15 * p.height]
@@ -413,11 +379,11 @@ class ImpactRun:
 
 
 def main():
-    a, p = parse()
+    me = next((k for k, a in enumerate(sys.argv) if a.endswith("damping_module.py")), 0)
     try:
-        p.validate()
-    except ValueError as e:
-        print(f"damping_module: bad parameter: {e}", file=sys.stderr)
+        a, p = parse(sys.argv[me + 1:])
+    except OptionError as e:  # every option is checked before anything is filled or built
+        print(f"{PROG}: {e}", file=sys.stderr)
         return 1
     # the folder is checked, taken and cleared of an earlier run's files before anything costly runs
     try:

@@ -55,6 +55,21 @@ def test_outputs_exist_and_agree(small_run):
     assert impulse == pytest.approx(m * dv, rel=0.02)
 
 
+def test_params_record_the_values_used(small_run):
+    """params.json holds the values the run used, the fill preset's resolved (grain sizes,
+    density, friction, modulus, rolling friction), and the parameters as given."""
+    from yadeflex.module import FILLS, SMALL
+    base, _, _ = small_run
+    p = json.loads((base / "a" / "params.json").read_text())
+    gravel = FILLS["gravel"]
+    assert (p["grain_min"], p["grain_max"]) == (SMALL["grain_min"], SMALL["grain_max"])  # --small's sizes
+    assert (p["fill_density"], p["fill_friction_deg"], p["fill_young"], p["rolling_friction"]) == (
+        gravel["density"], gravel["friction_deg"], gravel["young"], gravel["rolling_friction"])
+    assert p["given"]["fill_young"] is None and p["given"]["fill_friction_deg"] is None and p["given"]["fill"] == "gravel"
+    assert p["rope"] is False and p["impact_velocity"] == pytest.approx(math.sqrt(2 * 9.81 * SMALL["drop_height"]))
+    assert p["boulder_size"] == pytest.approx((SMALL["boulder_mass"] / 2400.0) ** (1 / 3))
+
+
 def test_energy_balance_closes(small_run):
     base, _, _ = small_run
     s = json.loads((base / "a" / "summary.json").read_text())
@@ -127,12 +142,12 @@ def test_settled_fill_bears_on_the_lining(small_run, scene):
 
 
 @pytest.mark.parametrize("args, msg", [
-    (["--diameter", "-1"], "diameter"),
-    (["--height", "0"], "height"),
-    (["--fill", "marbles"], "unknown fill"),
-    (["--drop-height", "0"], "drop_height"),
-    (["--impact-offset", "3", "0"], "impact_offset"),
-    (["--grain-min", "0.05", "--grain-max", "0.01"], "grain"),
+    (["--diameter", "-1"], "bad option --diameter"),
+    (["--height", "0"], "bad option --height"),
+    (["--fill", "marbles"], "bad option --fill"),
+    (["--drop-height", "0"], "bad option --drop-height"),
+    (["--impact-offset", "3", "0"], "bad option --impact-offset"),
+    (["--grain-min", "0.05", "--grain-max", "0.01"], "bad option --grain-min"),
 ])
 def test_bad_parameters_rejected_before_running(tmp_path, args, msg):
     r, t = _run(tmp_path / "x", tmp_path / "cache", "--small", *args, timeout=120)
