@@ -36,9 +36,6 @@ from yadeflex.module import filled_module, add_boulder, fill_top, G, UNBALANCED_
 from yadeflex.module_cli import parse, OptionError, PROG  # noqa: E402
 from yadeflex.output import VtkRecorder  # noqa: E402
 
-
-
-
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
 VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
 EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)

@@ -126,7 +126,8 @@ def _folder(option, path):
     while not os.path.exists(p):
         p = os.path.dirname(p)
     if not os.path.isdir(p) or not os.access(p, os.W_OK | os.X_OK):
-        raise _bad(option, path, f"a folder that can be created or written into ({p} is {'not a folder' if not os.path.isdir(p) else 'not writable'})")
+        why = "not a folder" if not os.path.isdir(p) else "not writable"
+        raise _bad(option, path, f"a folder that can be created or written into; {os.path.abspath(path)} cannot be written: {p} is {why}")
     return path
 
 

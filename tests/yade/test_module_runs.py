@@ -110,9 +110,20 @@ def test_an_output_folder_that_cannot_be_written_is_refused_before_the_fill(tmp_
     assert "settles until" not in r.stdout and not (tmp_path / "cache").exists()
 
 
-def test_a_cache_folder_that_cannot_be_written_fails_the_run_before_the_fill(tmp_path):
+def test_a_cache_folder_under_a_file_is_refused_with_the_options(tmp_path):
+    """Seen in the options (yadeflex.module_cli): status 1 and one line, nothing written."""
     (tmp_path / "f").write_text("a regular file\n")
-    r, _ = _run(tmp_path / "out", tmp_path / "f" / "cache", "--small", "--no-vtk", timeout=120)
+    cache = tmp_path / "f" / "cache"
+    r, _ = _run(tmp_path / "out", cache, "--small", "--no-vtk", timeout=120)
+    assert r.returncode == 1 and "bad option --cache-dir" in r.stderr and f"{cache} cannot be written" in r.stderr, r.stderr[-2000:]
+    assert "settles until" not in r.stdout and not (tmp_path / "out").exists()
+
+
+def test_a_cache_folder_that_cannot_be_written_fails_the_run_before_the_fill(tmp_path):
+    """One the options cannot foresee (a link to a folder that is not there, as to a drive
+    not mounted): the run fails at the fill stage, before filling, with a failed summary."""
+    os.symlink(tmp_path / "not mounted" / "cache", tmp_path / "cache")
+    r, _ = _run(tmp_path / "out", tmp_path / "cache", "--small", "--no-vtk", timeout=120)
     assert r.returncode == 1 and "module cache folder" in r.stderr and "cannot be written" in r.stderr, r.stderr[-2000:]
     assert "settles until" not in r.stdout
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
