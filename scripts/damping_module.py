@@ -33,12 +33,11 @@ import yadeflex as yf  # noqa: E402
 from yadeflex.files import CsvStream, ResultsFolder, write_json  # noqa: E402
 from yadeflex.impact import BrokenElements, ImpactTimes, Progress, part_name, part_names  # noqa: E402
 from yadeflex.module import filled_module, add_boulder, fill_top, G, UNBALANCED_TOL  # noqa: E402
-from yadeflex.module_cli import parse, OptionError, PROG  # noqa: E402
+from yadeflex.module_cli import parse, OptionError, PROG, EXIT  # noqa: E402
 from yadeflex.output import VtkRecorder  # noqa: E402
 
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
 VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
-EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)
 
 
 class Interrupted(Exception):

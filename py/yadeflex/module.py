@@ -90,7 +90,7 @@ LIMITS = dict(
     boulder_density=C.Range(500.0, 2e4, "kg/m3"),
     drop_height=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True, note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"),
     impact_velocity=C.Range(0.0, MAX_IMPACT_SPEED, "m/s", lo_open=True),
-    damping=DAMPING,
+    damping=dataclasses.replace(DAMPING, note="local damping, from the boulder's first contact on: its free fall is undamped"),
     settle_damping=C.Range(0.1, 1.0, hi_open=True, note="the fill settles under heavy damping"),
     timestep_safety=C.Range(0.05, 1.0, note="x FlexTimeStepper's critical step"),
     steel_contact_young=C.Range(1e8, 2e11, "Pa", note="up to steel's E"),
@@ -122,7 +122,7 @@ class ModuleParams:
     drop_height: float = 2.0         # [m] free fall of the boulder's lowest point onto the fill top
     impact_velocity: float = None    # [m/s] instead of drop_height
     impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
-    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact
+    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact (not the boulder's free fall)
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
     timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 2.16x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)

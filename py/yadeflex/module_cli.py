@@ -11,20 +11,22 @@ import dataclasses
 import os
 
 from . import checks as C
+from .impact import ImpactTimes
 from .module import ModuleParams, FILLS, LIMITS, BOULDER_SHAPES, N_MODULES, SMALL
 
 PROG = "damping_module"
-DEFAULT_RUN = 0.3  # [s] longest impact run without --duration (rebound + 20%, or this after the first contact)
-EXIT_CODES = ((0, "done"),
-              (1, "bad input (one line names the option and the values allowed) or another error"),
-              (2, "a NaN, an unstable state or a collapsed time step (the message names the body)"),
-              (3, "the energy-balance residual exceeded --max-residual"),
-              (130, "interrupted by SIGINT (Ctrl-C); summary.json: \"status\": \"interrupted\""),
-              (143, "interrupted by SIGTERM; summary.json: \"status\": \"interrupted\""))
+DEFAULT_RUN = ImpactTimes.MAX_AFTER_CONTACT  # [s] longest impact run without --duration (else until the rebound + a margin)
+EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)  # the job's exit status by how it ended
+EXIT_CODES = ((EXIT["done"], "done"),
+              (EXIT["failed"], "bad input (one line names the option and the values allowed) or another error"),
+              (EXIT["unstable"], "a NaN, an unstable state or a collapsed time step (the message names the body)"),
+              (EXIT["residual"], "the energy-balance residual exceeded --max-residual"),
+              (EXIT["SIGINT"], "interrupted by SIGINT (Ctrl-C); summary.json: \"status\": \"interrupted\""),
+              (EXIT["SIGTERM"], "interrupted by SIGTERM; summary.json: \"status\": \"interrupted\""))
 
 # the job's own numeric options (the module's are ModuleParams' LIMITS)
 RUN_LIMITS = dict(
-    duration=C.Range(0.0, 2.0, "s", lo_open=True, note=f"simulated time after the first contact; default: until the rebound + 20%, "
+    duration=C.Range(0.0, 2.0, "s", lo_open=True, note=f"simulated time after the first contact; default: until the rebound + {100 * ImpactTimes.REBOUND_MARGIN:g}%, "
                      f"at most {DEFAULT_RUN:g} s"),
     record_every=C.Range(1e-6, 1e-3, "s", note="time-series interval, at most duration/10: the impact force pulse lasts "
                          "10-50 ms and its peak needs ten records or more"),
