@@ -9,32 +9,20 @@ from yade import O
 from yade.wrapper import Body, FlexNode, FlexCylinder, FlexMat
 from yade.minieigenHP import Vector3
 
+from . import checks as C
+
 
 def _positive(name, v):
-    try:
-        ok = float(v) > 0 and math.isfinite(float(v))
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise ValueError(f"{name} must be a positive finite number, got {v!r}")
-    return float(v)
+    return C.positive(name, v)
 
 
-def check_finite(name, p):
-    """Vector3 from a 3-sequence, or ValueError if it is not 3 finite numbers."""
-    try:
-        vals = [float(x) for x in p]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be 3 numbers, got {p!r}") from None
-    if len(vals) != 3 or not all(math.isfinite(x) for x in vals):
-        raise ValueError(f"{name} must be 3 finite numbers, got {p!r}")
-    return Vector3(*vals)
+check_finite = C.point  # Vector3 from 3 finite numbers (the public name of checks.point)
 
 
-def lookup_material(material, cls, check=None):
+def lookup_material(material, cls, check=None, append=True):
     """A material of class cls given as an instance (added to O.materials if it is not there
-    yet) or as the label of one in O.materials; ValueError naming the problem otherwise.
-    check(m) may return an error text for an instance that is not usable."""
+    yet, unless append is False) or as the label of one in O.materials; ValueError naming the
+    problem otherwise. check(m) may return an error text for an instance that is not usable."""
     if isinstance(material, str):
         for m in O.materials:
             if m.label == material:
@@ -49,18 +37,32 @@ def lookup_material(material, cls, check=None):
     err = check(material) if check else ""
     if err:
         raise ValueError(f"material '{material.label}': {err}")
-    if material.id < 0:
+    if material.id < 0 and append:
         O.materials.append(material)
     return material
 
 
-def _material(material):
-    return lookup_material(material, FlexMat, check=lambda m: m.wireError())
+def _material(material, append=True):
+    return lookup_material(material, FlexMat, check=lambda m: m.wireError(), append=append)
+
+
+def _body_ids(name, ids):
+    """ids as a list after checking that each is the id of an existing body."""
+    try:
+        items = list(ids)
+    except TypeError:
+        raise C.BadValue(name, ids, "a sequence of body ids") from None
+    for i in items:
+        if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(O.bodies) or O.bodies[i] is None:
+            raise C.BadValue(name, ids, f"ids of existing bodies (0 to {len(O.bodies) - 1})")
+    return items
 
 
 def fix(ids, dofs="xyzXYZ"):
-    """Block degrees of freedom of nodes (default: clamp)."""
-    for i in ids:
+    """Block degrees of freedom of nodes (default: clamp); dofs: letters of 'xyzXYZ'."""
+    if not (isinstance(dofs, str) and set(dofs) <= set("xyzXYZ")):
+        raise C.BadValue("dofs", dofs, "a string of the letters xyzXYZ")
+    for i in _body_ids("ids", ids):
         O.bodies[i].state.blockedDOFs = dofs
         O.bodies[i].state.vel = Vector3(0, 0, 0)
         O.bodies[i].state.angVel = Vector3(0, 0, 0)
@@ -71,12 +73,15 @@ def node(pos, radius, material=None, fixed=False):
     cylinders attached to it. Returns the body id."""
     p = check_finite("node position", pos)
     r = _positive("node radius", radius)
+    fixed = C.boolean("fixed", fixed)
+    mat = _material(material) if material is not None else None
+    C.body_budget("node", pos, 1)
     b = Body()
     b.shape = FlexNode(radius=r)
     b.state.pos = p
     b.bounded = False  # contacts are detected on the elements
-    if material is not None:
-        b.material = _material(material)
+    if mat is not None:
+        b.material = mat
     elif len(O.materials):
         b.material = O.materials[0]
     i = O.bodies.append(b)
@@ -90,10 +95,13 @@ def cylinder(node1, node2, radius, material):
     r = _positive("cylinder radius", radius)
     mat = _material(material)
     for n in (node1, node2):
-        if not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
             raise ValueError(f"cylinder end {n!r} is not the id of an existing body")
         if not isinstance(O.bodies[n].shape, FlexNode):
             raise ValueError(f"cylinder end #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    if node1 == node2:
+        raise C.BadValue("cylinder ends", (node1, node2), "two different nodes (both ends are the same node)")
+    C.body_budget("cylinder", (node1, node2), 1)
     b = Body()
     b.shape = FlexCylinder(node1=node1, node2=node2, radius=r)
     b.material = mat
@@ -107,14 +115,24 @@ def cylinder(node1, node2, radius, material):
     return i
 
 
+def _segments(name, n, lo=1):
+    """A count of segments (or cells) that the scene has room for: 2 bodies each at most."""
+    n = C.integer(name, n, lo, C.MAX_BODIES)
+    C.body_budget(name, n, 2 * n + 1)
+    return n
+
+
 def _subdivide(points, segments, closed):
-    pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+    if segments is not None:
+        _segments("segments", segments)
+    try:
+        pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+    except TypeError:
+        raise C.BadValue("points", points, "a sequence of 3D points") from None
     if len(pts) < 2:
         raise ValueError(f"a chain needs at least 2 points, got {len(pts)}")
     if segments is None:
         return pts
-    if not (isinstance(segments, int) and segments >= 1):
-        raise ValueError(f"segments must be a positive integer, got {segments!r}")
     if len(pts) != 2 or closed:
         raise ValueError("segments= subdivides a straight chain between exactly 2 points")
     a, b = pts
@@ -127,9 +145,12 @@ def chain(points, radius, material, segments=None, closed=False, fixed=()):
     points: sequence of 3D points [m] (or two end points with segments=N); closed: join the
     last point to the first (a ring); fixed: indices of points to clamp.
     Returns (node_ids, cylinder_ids)."""
+    closed = C.boolean("closed", closed)
     pts = _subdivide(points, segments, closed)
     r = _positive("chain radius", radius)
     mat = _material(material)
+    fixed = C.indices("fixed", fixed, len(pts))
+    C.body_budget("points", f"{len(pts)} points", 2 * len(pts))
     for k in range(len(pts) - (0 if closed else 1)):
         if (pts[(k + 1) % len(pts)] - pts[k]).norm() <= 1e-9 * r:
             raise ValueError(f"points {k} and {(k + 1) % len(pts)} coincide: zero-length segment")
@@ -146,11 +167,10 @@ def ring(center, ring_radius, bar_radius, material, segments=24, axis=(0, 0, 1))
     plane normal to axis. Returns (node_ids, cylinder_ids)."""
     c = check_finite("ring center", center)
     R = _positive("ring radius", ring_radius)
-    if not (isinstance(segments, int) and segments >= 3):
-        raise ValueError(f"a ring needs at least 3 segments, got {segments!r}")
+    segments = _segments("segments", segments, 3)
     ax = check_finite("ring axis", axis)
     if ax.norm() == 0:
-        raise ValueError("ring axis must be non-zero")
+        raise C.BadValue("ring axis", axis, "a non-zero vector")
     ax = ax / ax.norm()
     e1 = ax.cross(Vector3(1, 0, 0) if abs(ax[0]) < 0.9 else Vector3(0, 1, 0))
     e1 = e1 / e1.norm()
@@ -160,11 +180,11 @@ def ring(center, ring_radius, bar_radius, material, segments=24, axis=(0, 0, 1))
 
 
 def helix(segments, coil_radius, pitch, wire_radius, material, turns=None, center=(0, 0, 0), fixed=(0,)):
-    """Helix along z: `segments` cylinders over `turns` turns (default: segments/20).
-    Returns (node_ids, cylinder_ids)."""
-    if not (isinstance(segments, int) and segments >= 1):
-        raise ValueError(f"segments must be a positive integer, got {segments!r}")
+    """Helix along z: `segments` cylinders over `turns` turns (default: segments/20), rising
+    pitch [m] per turn. Returns (node_ids, cylinder_ids)."""
+    segments = _segments("segments", segments)
     Rc = _positive("coil radius", coil_radius)
+    pitch = C.number("pitch", pitch, C.Range(unit="m"))
     turns = segments / 20.0 if turns is None else _positive("turns", turns)
     c = check_finite("helix center", center)
     pts = []
@@ -177,11 +197,12 @@ def helix(segments, coil_radius, pitch, wire_radius, material, turns=None, cente
 def net(n, spacing, wire_radius, material, origin=(0, 0, 0), fix_border=True):
     """Square net of n x n nodes in the plane z = origin.z, joined by cylinders along x and
     y. Border nodes are clamped if fix_border. Returns (node_grid[i][j], cylinder_ids)."""
-    if not (isinstance(n, int) and n >= 2):
-        raise ValueError(f"net needs n >= 2 nodes per side, got {n!r}")
+    n = C.integer("n", n, 2, C.MAX_BODIES)
+    C.body_budget("n", n, 3.0 * n * n)
     h = _positive("spacing", spacing)
     r = _positive("wire radius", wire_radius)
     o = check_finite("net origin", origin)
+    fix_border = C.boolean("fix_border", fix_border)
     mat = _material(material)
     grid = [[node(o + Vector3(i * h, j * h, 0), r, mat) for j in range(n)] for i in range(n)]
     cyls = []

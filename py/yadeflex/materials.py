@@ -3,7 +3,14 @@ import math
 
 from yade.wrapper import FlexMat
 
-from .builders import _positive
+from . import checks as C
+
+# ranges shared by the material presets: moduli up to 10x steel's (a stiffer contact only
+# shortens the time step), densities up to 5x steel's, friction below 90 deg, ks/kn in [0, 1]
+MODULUS = C.Range(0.0, 2e12, "Pa", lo_open=True)
+DENSITY = C.Range(0.0, 4e4, "kg/m3", lo_open=True)
+FRICTION_DEG = C.Range(0.0, 90.0, "deg", hi_open=True)
+CONTACT_RATIO = C.Range(0.0, 1.0, note="ks/kn")
 
 
 def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_ratio=0.25,
@@ -18,21 +25,21 @@ def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_r
     contact_young [Pa]: contact modulus if it differs from young (None: young). young stays the
     element's modulus; a lower contact modulus lengthens the time step of stiff wire contacts.
     """
-    _positive("young", young)
-    _positive("density", density)
-    for name, v in (("yield_stress", yield_stress), ("tensile_strength", tensile_strength), ("rupture_strain", rupture_strain)):
-        if not v > 0:
-            raise ValueError(f"{name} must be positive (inf to disable), got {v!r}")
-    if not (0 <= friction_deg < 90):
-        raise ValueError(f"friction_deg must be in [0, 90), got {friction_deg!r}")
-    if not (-1 < beam_poisson < 0.5):
-        raise ValueError(f"beam_poisson must be in (-1, 0.5), got {beam_poisson!r}")
-    if not (hardening >= 0 and math.isfinite(hardening)):
-        raise ValueError(f"hardening must be >= 0, got {hardening!r}")
-    if not (bending_factor >= 0 and math.isfinite(bending_factor)):
-        raise ValueError(f"bending_factor must be >= 0, got {bending_factor!r}")
+    young = C.number("young", young, MODULUS)
+    density = C.number("density", density, DENSITY)
+    for name, v, unit in (("yield_stress", yield_stress, "Pa"), ("tensile_strength", tensile_strength, "Pa"), ("rupture_strain", rupture_strain, "")):
+        if v != math.inf:
+            C.number(name, v, C.Range(0.0, unit=unit, lo_open=True, note="or inf: none"))
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    C.number("beam_poisson", beam_poisson, C.Range(-1.0, 0.5, lo_open=True, hi_open=True))
+    C.number("contact_ratio", contact_ratio, CONTACT_RATIO)
+    C.number("hardening", hardening, C.Range(0.0))
+    C.number("bending_factor", bending_factor, C.Range(0.0))
+    tension_only = C.boolean("tension_only", tension_only)
+    if not isinstance(label, str):
+        raise C.BadValue("label", label, "a string")
     if contact_young is not None:
-        _positive("contact_young", contact_young)
+        C.number("contact_young", contact_young, MODULUS)
     m = FlexMat(young=young if contact_young is None else contact_young, density=density, frictionAngle=math.radians(friction_deg),
                    beamPoisson=beam_poisson, poisson=contact_ratio, tensionOnly=tension_only,
                    yieldStress=yield_stress, hardening=hardening, tensileStrength=tensile_strength,

@@ -13,7 +13,9 @@ from yade import O
 from yade.wrapper import Body, FlexNode, FlexFacet, FlexMembraneMat
 from yade.minieigenHP import Vector3
 
+from . import checks as C
 from .builders import _positive, check_finite, fix, lookup_material
+from .materials import MODULUS, FRICTION_DEG, CONTACT_RATIO
 
 
 def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, strength=math.inf,
@@ -26,15 +28,18 @@ def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, 
     contact_young [Pa]: contact modulus (contact kn = 2 E1 r1 E2 r2 / (E1 r1 + E2 r2) with r the
     facet's half thickness); friction_deg [deg]; contact_ratio [-] ks/kn of contacts.
     """
-    _positive("membrane stiffness", stiffness)
-    _positive("areal_density", areal_density)
-    _positive("contact_young", contact_young)
-    if not (0 <= poisson < 0.5):  # the time step's stretch bound (membraneStretchFactor) needs nu >= 0
-        raise ValueError(f"poisson must be in [0, 0.5), got {poisson!r}")
-    if not strength > 0:
-        raise ValueError(f"strength must be positive (inf to disable), got {strength!r}")
-    if not (0 <= friction_deg < 90):
-        raise ValueError(f"friction_deg must be in [0, 90), got {friction_deg!r}")
+    C.number("membrane stiffness", stiffness, C.Range(0.0, 1e9, "N/m", lo_open=True, note="E t; steel sheet 1 mm: 2e8"))
+    C.number("areal_density", areal_density, C.Range(0.0, 1e3, "kg/m2", lo_open=True))
+    C.number("contact_young", contact_young, MODULUS)
+    # the time step's stretch bound (membraneStretchFactor) needs nu >= 0
+    C.number("poisson", poisson, C.Range(0.0, 0.5, hi_open=True))
+    if strength != math.inf:
+        C.number("strength", strength, C.Range(0.0, unit="N/m", lo_open=True, note="or inf: none"))
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    C.number("contact_ratio", contact_ratio, CONTACT_RATIO)
+    tension_only = C.boolean("tension_only", tension_only)
+    if not isinstance(label, str):
+        raise C.BadValue("label", label, "a string")
     return FlexMembraneMat(stiffness=stiffness, arealDensity=areal_density, membranePoisson=poisson,
                            tensionOnly=bool(tension_only), strength=strength, young=contact_young,
                            poisson=contact_ratio, frictionAngle=math.radians(friction_deg),
@@ -72,10 +77,13 @@ def facet(node1, node2, node3, material, thickness):
     mat = _membrane_material(material)
     ids = (node1, node2, node3)
     for n in ids:
-        if not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
             raise ValueError(f"facet corner {n!r} is not the id of an existing body")
         if not isinstance(O.bodies[n].shape, FlexNode):
             raise ValueError(f"facet corner #{n} is a {type(O.bodies[n].shape).__name__}, not a FlexNode")
+    if len(set(ids)) < 3:
+        raise C.BadValue("facet corners", ids, "three different nodes (two corners are the same node)")
+    C.body_budget("facet", ids, 1)
     b = Body()
     b.shape = FlexFacet(node1=node1, node2=node2, node3=node3, radius=0.5 * t)
     b.material = mat
@@ -93,7 +101,12 @@ def triangle_mesh(points, triangles, material, thickness, fixed=()):
     """Membrane from a triangle mesh: points [(x, y, z)] [m], triangles [(i, j, k)] indices into
     points; fixed: indices of points to clamp. Returns (node_ids, facet_ids). Every triangle is
     checked (indices, area) before anything is added."""
-    pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+    try:
+        pts = [check_finite(f"point {k}", p) for k, p in enumerate(points)]
+        triangles = list(triangles)
+    except TypeError:
+        raise C.BadValue("points, triangles", (points, triangles), "sequences of points and of index triples") from None
+    C.body_budget("triangles", f"{len(triangles)} triangles", len(pts) + len(triangles))
     tris = []
     for k, t in enumerate(triangles):
         try:
@@ -110,9 +123,7 @@ def triangle_mesh(points, triangles, material, thickness, fixed=()):
         tris.append(tri)
     if not tris:
         raise ValueError("a membrane needs at least one triangle")
-    for i in fixed:
-        if not (isinstance(i, int) and 0 <= i < len(pts)):
-            raise ValueError(f"fixed point index {i!r} is out of range")
+    fixed = C.indices("fixed", fixed, len(pts))
     t = _positive("membrane thickness", thickness)
     mat = _membrane_material(material)
     used = sorted({i for tri in tris for i in tri})
@@ -126,12 +137,12 @@ def sheet(nx, ny, size, thickness, material, origin=(0, 0, 0), fix_border=True, 
     """Rectangular sheet in the plane z = origin.z, size = (lx, ly) [m], with nx x ny cells.
     pattern 'crossed' splits cells along alternating diagonals (no preferred direction),
     'right' along one diagonal. Returns dict(grid=node ids [i][j], facets, border)."""
-    if not (isinstance(nx, int) and isinstance(ny, int) and nx >= 1 and ny >= 1):
-        raise ValueError(f"nx, ny must be positive integers, got {nx!r}, {ny!r}")
-    if pattern not in ("crossed", "right"):
-        raise ValueError(f"pattern must be 'crossed' or 'right', got {pattern!r}")
-    lx, ly = (_positive("sheet size", s) for s in size)
+    nx, ny = C.integer("nx", nx, 1, C.MAX_BODIES), C.integer("ny", ny, 1, C.MAX_BODIES)
+    C.body_budget("nx" if nx > ny else "ny", nx if nx > ny else ny, (nx + 1) * (ny + 1) + 2 * nx * ny)
+    C.choice("pattern", pattern, ("crossed", "right"))
+    lx, ly = (_positive("sheet size", s) for s in C.vector("sheet size", size, 2))
     o = check_finite("sheet origin", origin)
+    fix_border = C.boolean("fix_border", fix_border)
     pts = [o + Vector3(lx * i / nx, ly * j / ny, 0) for i in range(nx + 1) for j in range(ny + 1)]
     idx = lambda i, j: i * (ny + 1) + j
     tris = []
@@ -155,9 +166,10 @@ def lining(radius, height, n_around, n_height, thickness, material, center=(0, 0
     dict(rings=node ids [k][i] (k along the height), facets, bottom, top)."""
     R = _positive("lining radius", radius)
     H = _positive("lining height", height)
-    if not (isinstance(n_around, int) and n_around >= 3 and isinstance(n_height, int) and n_height >= 1):
-        raise ValueError(f"need n_around >= 3 and n_height >= 1 integers, got {n_around!r}, {n_height!r}")
+    n_around, n_height = C.integer("n_around", n_around, 3, C.MAX_BODIES), C.integer("n_height", n_height, 1, C.MAX_BODIES)
+    C.body_budget("n_around" if n_around > n_height else "n_height", max(n_around, n_height), 3 * n_around * (n_height + 1))
     c = check_finite("lining center", center)
+    fix_bottom = C.boolean("fix_bottom", fix_bottom)
     pts = [c + Vector3(R * math.cos(2 * math.pi * i / n_around), R * math.sin(2 * math.pi * i / n_around), H * k / n_height)
            for k in range(n_height + 1) for i in range(n_around)]
     idx = lambda k, i: k * n_around + (i % n_around)
@@ -177,7 +189,7 @@ def lining(radius, height, n_around, n_height, thickness, material, center=(0, 0
 
 def read_mesh(path):
     """(points, triangles) from a GTS or STL (ASCII or binary) file; STL vertices are merged."""
-    if not os.path.isfile(path):
+    if not isinstance(path, (str, os.PathLike)) or not os.path.isfile(path):
         raise ValueError(f"mesh file {path!r} does not exist")
     ext = os.path.splitext(path)[1].lower()
     if ext == ".gts":

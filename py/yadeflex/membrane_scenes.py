@@ -8,18 +8,43 @@ import math
 from yade import O
 from yade.minieigenHP import Vector3
 
+from . import checks as C
 from . import membrane as M
-from .builders import fix
-from .scene import engines
+from .builders import fix, _positive
+from .materials import DENSITY, FRICTION_DEG
+from .scene import engines, engine_args
 from .scenes import sphere
+
+
+def _check_square(n, size, damping=0.0, gravity=9.81, timestep_safety=0.5):
+    """Arguments shared by the square scenes, checked before O.reset: n x n cells, size [m]."""
+    n = C.integer("n", n, 1, C.MAX_BODIES)
+    C.body_budget("n", n, 3.0 * (n + 1) * (n + 1) + 1)
+    _positive("size", size)
+    engine_args((0, 0, gravity), damping, timestep_safety)
+
+
+def _check_membrane(stiffness, poisson):
+    M.membrane_material(stiffness, 0.3, poisson=poisson, tension_only=False)
+
+
+def _check_sphere(radius, density, friction_deg, drop):
+    _positive("sphere_radius", radius)
+    C.number("sphere_density", density, DENSITY)
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    C.number("drop", drop, C.Range(0.0, unit="m"))
 
 
 def pretensioned_square(n=16, size=1.0, prestrain=0.01, load=1.0, stiffness=20e3, poisson=0.3, damping=0.8):
     """Square membrane (n x n cells, side `size` [m] at rest, clamped border), stretched
     uniformly by (1 + prestrain) in both directions, with a point load `load` [N] (-z) on
     its centre node. Prestress per unit current width: T = Et/(1-nu) ((1+e)^2 - 1)/2."""
-    if n % 2:
-        raise ValueError("n must be even (a centre node)")
+    if C.integer("n", n, 2, C.MAX_BODIES) % 2:
+        raise C.BadValue("n", n, "an even number (a centre node)")
+    _check_square(n, size, damping)
+    C.number("prestrain", prestrain, C.Range(0.0, 1.0, note="the sheet is stretched by 1 + prestrain"))
+    C.number("load", load, C.Range(unit="N"))
+    _check_membrane(stiffness, poisson)
     O.reset()
     mat = M.membrane_material(stiffness, 0.3, poisson=poisson, tension_only=False)
     sh = M.sheet(n, n, (size, size), 0.002, mat, origin=(-size / 2, -size / 2, 0))
@@ -55,6 +80,11 @@ def circular_membrane(rings=12, radius=0.5, pressure=100.0, stiffness=20e3, pois
     """Circular membrane (radius [m], `rings` rings of nodes, about 6k nodes on ring k, clamped
     edge), no prestress, under a uniform pressure [Pa] (+z, follower). Hencky's solution
     for nu = 0.3: centre deflection w0 = 0.662 a (p a / (E t))^(1/3)."""
+    rings = C.integer("rings", rings, 1, C.MAX_BODIES)
+    C.body_budget("rings", rings, 9.0 * rings * (rings + 1) + 1)
+    _check_square(1, radius, damping)
+    C.number("pressure", pressure, C.Range(unit="Pa"))
+    _check_membrane(stiffness, poisson)
     O.reset()
     mat = M.membrane_material(stiffness, 0.3, poisson=poisson, tension_only=False)
     pts = [(0.0, 0.0, 0.0)]
@@ -96,6 +126,10 @@ def sheet_impact(n=16, size=1.0, thickness=0.002, stiffness=250e3, areal_density
                  timestep_safety=0.5, gravity=9.81):
     """Square sheet (n x n cells, clamped border, geotextile-like) and a sphere released
     `drop` [m] above it at its centre, under gravity."""
+    _check_square(n, size, damping, gravity, timestep_safety)
+    _positive("thickness", thickness)
+    M.membrane_material(stiffness, areal_density, tension_only=tension_only, friction_deg=friction_deg)
+    _check_sphere(sphere_radius, sphere_density, friction_deg, drop)
     O.reset()
     mat = M.membrane_material(stiffness, areal_density, tension_only=tension_only, friction_deg=friction_deg)
     sh = M.sheet(n, n, (size, size), thickness, mat)
@@ -109,6 +143,11 @@ def sheet_impact(n=16, size=1.0, thickness=0.002, stiffness=250e3, areal_density
 def bumpy_surface(n=20, size=1.0, amplitude=0.02, waves=3, sphere_radius=0.05, speed=1.0, friction_deg=20.0):
     """A sphere rolling/sliding over a fixed bumpy surface of facets z = A sin(k x) sin(k y)
     (n x n cells, crossed diagonals), launched along x at `speed` [m/s] under gravity."""
+    _check_square(n, size)
+    C.number("amplitude", amplitude, C.Range(0.0, 0.1 * size, "m", note="at most size/10"))
+    C.number("waves", waves, C.Range(0.0, n / 4, note="at most n/4: four cells a wave"))
+    _check_sphere(sphere_radius, 2500.0, friction_deg, 0.0)
+    C.number("speed", speed, C.Range(unit="m/s"))
     O.reset()
     mat = M.membrane_material(250e3, 0.3, tension_only=False, friction_deg=friction_deg)
     k = 2 * math.pi * waves / size

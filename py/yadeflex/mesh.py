@@ -30,8 +30,10 @@ import math
 
 from yade import O
 from yade.minieigenHP import Vector3
+from yade.wrapper import FlexNode
 
 from . import builders as B
+from . import checks as C
 
 TECCO_G65_DX = 0.083  # [m] rhombus diagonal across the spirals (longitudinal direction)
 TECCO_G65_DY = 0.143  # [m] rhombus diagonal along the spirals (transverse direction)
@@ -54,6 +56,11 @@ def _lattice(nx, ny):
 
 def _spiral_column(s, k):
     return s + ((s + k) % 2)
+
+
+def _mesh_budget(nx, ny, blame):
+    """Refuse a mesh of nx x ny legs that passes the body budget, naming blame = (name, value)."""
+    C.body_budget(*blame, nx * ny + (nx + 1) * (ny + 1) // 2)
 
 
 def _build(nx, ny, position, material, wire_radius, wrap=""):
@@ -87,6 +94,15 @@ def _counts(length, pitch, what, even=False):
     return n
 
 
+def panel_counts(width, height, dx=TECCO_G65_DX, dy=TECCO_G65_DY):
+    """(a, h, nx, ny) of a chain-link panel: half-diagonals [m] and legs across and along the
+    spirals; BadValue for sizes that are not positive or a panel over the body budget."""
+    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
+    nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
+    _mesh_budget(nx, ny, ("panel width", width) if nx > ny else ("panel height", height))
+    return a, h, nx, ny
+
+
 def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
                      origin=(0, 0, 0)):
     """Planar chain-link panel in the plane z = origin.z: x across the spirals (longitudinal,
@@ -94,8 +110,7 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     to whole half-diagonals (the returned params give the built ones).
     Returns dict(nodes={(i, k): id}, cylinders, spirals, edges, params)."""
     o = B.check_finite("panel origin", origin)
-    a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
-    nx, ny = _counts(width, a, "panel width"), _counts(height, h, "panel height")
+    a, h, nx, ny = panel_counts(width, height, dx, dy)
     ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
     edges = dict(left=[ids[p] for p in sorted(ids) if p[0] == 0], right=[ids[p] for p in sorted(ids) if p[0] == nx],
                  bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny])
@@ -117,8 +132,7 @@ def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G6
     Returns the dict of chain_link_panel, edges bottom/top and seam (node ids of the seam)."""
     c = B.check_finite("cylinder center", center)
     D = B._positive("diameter", diameter)
-    if spirals not in ("around", "vertical"):
-        raise ValueError(f"spirals must be 'around' or 'vertical', got {spirals!r}")
+    C.choice("spirals", spirals, ("around", "vertical"))
     a, h = 0.5 * B._positive("dx", dx), 0.5 * B._positive("dy", dy)
     R = 0.5 * D
     if spirals == "vertical":  # x (across the spirals) around, y up
@@ -138,6 +152,8 @@ def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G6
         phi, z = angle_height(i, k)
         return c + Vector3(R * math.cos(phi), R * math.sin(phi), z)
 
+    around, up = (nx, ny) if spirals == "vertical" else (ny, nx)
+    _mesh_budget(nx, ny, ("diameter", diameter) if around > up else ("height", height))
     ids, sp = _build(nx, ny, pos, material, wire_radius, wrap=wrap)
     top = max(level(p) for p in ids)
     edges = dict(bottom=[ids[p] for p in sorted(ids) if level(p) == 0], top=[ids[p] for p in sorted(ids) if level(p) == top],
@@ -159,8 +175,15 @@ def edge_ring(edge_nodes, bar_radius, material, closed=True):
     """A steel ring (or bar, closed=False) through the mesh edge nodes: the mesh wires wrap
     around it, modelled as shared nodes (the ring's cylinders and the mesh legs meet at the
     edge nodes). bar_radius [m] (TECCO module rings: 5 mm). Returns the ring's cylinder ids."""
+    closed = C.boolean("closed", closed)
+    edge_nodes = B._body_ids("edge_nodes", edge_nodes)
     if len(edge_nodes) < (3 if closed else 2):
         raise ValueError(f"a ring needs at least {3 if closed else 2} edge nodes, got {len(edge_nodes)}")
+    if len(set(edge_nodes)) != len(edge_nodes) or not all(isinstance(O.bodies[i].shape, FlexNode) for i in edge_nodes):
+        raise C.BadValue("edge_nodes", edge_nodes, "distinct ids of FlexNode bodies")
+    B._positive("bar_radius", bar_radius)
+    B._material(material)
+    C.body_budget("edge_nodes", f"{len(edge_nodes)} nodes", len(edge_nodes))
     nodes = _sorted_around(edge_nodes) if closed else list(edge_nodes)
     cyls = [B.cylinder(nodes[k], nodes[k + 1], bar_radius, material) for k in range(len(nodes) - 1)]
     if closed:

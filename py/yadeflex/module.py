@@ -32,15 +32,18 @@ import math
 import os
 import random
 import sys
+import tempfile
 
 from yade import O
 from yade.minieigenHP import Vector3, Quaternion
 from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, FlexFacet
 
 from . import builders as B
+from . import checks as C
 from . import membrane as M
-from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
-from .scene import engines
+from .materials import FRICTION_DEG
+from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_DX, TECCO_G65_DY, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
+from .scene import engines, DAMPING, ROLLING_FRICTION
 
 G = 9.81
 # a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
@@ -62,6 +65,37 @@ FILLS = {
     "cellular_glass": dict(grain_min=0.030, grain_max=0.060, density=350.0, friction_deg=45.0, young=2e7, rolling_friction=0.15),
 }
 
+
+BOULDER_SHAPES = ("cube", "sphere")
+N_MODULES = (1, 3, 7)
+# rockfall impact speeds stay below about 40 m/s; faster, the contacts' penalty stiffness
+# cannot stop the boulder within a fraction of a grain
+MAX_IMPACT_SPEED = 50.0  # [m/s]
+BOULDER_MIN_SIZE = 0.05  # [m] a smaller boulder is a grain (its members set a tiny time step)
+
+# Allowed values of the numeric parameters (ModuleParams.validate, the main job's --help); bounds
+# that depend on other parameters are checked in validate.
+LIMITS = dict(
+    diameter=C.Range(0.2, math.inf, "m", note="at least three cells around; at most the body budget allows"),
+    height=C.Range(0.1, math.inf, "m", note="at least two half-cells; at most the body budget allows"),
+    ring_bar_diameter=C.Range(0.004, 0.03, "m"),
+    lining_thickness=C.Range(0.0005, 0.01, "m", note="geotextiles are 1-10 mm thick"),
+    lining_gap=C.Range(0.0, math.inf, "m", note="below diameter/4"),
+    grain_min=C.Range(0.0, math.inf, "m", lo_open=True, note="grain_max/10 to grain_max"),
+    grain_max=C.Range(0.0, math.inf, "m", lo_open=True, note="at most diameter/4 and height/2; at least the body budget allows"),
+    fill_friction_deg=FRICTION_DEG,
+    rolling_friction=ROLLING_FRICTION,
+    fill_young=C.Range(1e6, 1e11, "Pa", note="softer grains sink into each other, stiffer ones shorten the step"),
+    boulder_mass=C.Range(0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"),
+    boulder_density=C.Range(500.0, 2e4, "kg/m3"),
+    drop_height=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True, note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"),
+    impact_velocity=C.Range(0.0, MAX_IMPACT_SPEED, "m/s", lo_open=True),
+    damping=dataclasses.replace(DAMPING, note="local damping, from the boulder's first contact on: its free fall is undamped"),
+    settle_damping=C.Range(0.1, 1.0, hi_open=True, note="the fill settles under heavy damping"),
+    timestep_safety=C.Range(0.05, 1.0, note="x FlexTimeStepper's critical step"),
+    steel_contact_young=C.Range(1e8, 2e11, "Pa", note="up to steel's E"),
+    module_gap=C.Range(0.0, math.inf, "m", note="below the diameter"),
+)
 
 # the reduced module: fast enough for tests and benchmarks (ModuleParams.small())
 SMALL = dict(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
@@ -88,7 +122,7 @@ class ModuleParams:
     drop_height: float = 2.0         # [m] free fall of the boulder's lowest point onto the fill top
     impact_velocity: float = None    # [m/s] instead of drop_height
     impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
-    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact
+    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact (not the boulder's free fall)
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
     timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 2.16x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
@@ -104,8 +138,8 @@ class ModuleParams:
         return cls(**dict(SMALL, **kw))
 
     def preset(self):
-        if self.fill not in FILLS:
-            raise ValueError(f"unknown fill {self.fill!r}: choose one of {sorted(FILLS)}")
+        """The fill preset with this module's overrides (grain sizes, friction, modulus)."""
+        C.choice("fill", self.fill, tuple(sorted(FILLS)))
         p = dict(FILLS[self.fill])
         for k in ("grain_min", "grain_max"):
             if getattr(self, k) is not None:
@@ -126,43 +160,81 @@ class ModuleParams:
         return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
     def validate(self):
-        """Raise ValueError naming the first bad parameter (before any simulation starts)."""
-        for k in ("diameter", "height", "ring_bar_diameter", "lining_thickness", "boulder_mass", "boulder_density", "steel_contact_young"):
-            v = getattr(self, k)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{k} must be a positive finite number, got {v!r}")
-        if not (isinstance(self.lining_gap, (int, float)) and 0 <= self.lining_gap < 0.25 * self.diameter):
-            raise ValueError(f"lining_gap must be in [0, diameter/4), got {self.lining_gap!r}")
+        """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
+        allowed, before anything is built (LIMITS, FILLS, the body budget MAX_BODIES)."""
+        for k, rng in LIMITS.items():
+            if getattr(self, k) is not None and not (k == "drop_height" and self.impact_velocity is not None):
+                rng.check(k, getattr(self, k))
+        C.choice("fill", self.fill, tuple(sorted(FILLS)))
+        C.choice("boulder_shape", self.boulder_shape, BOULDER_SHAPES)
+        C.choice("n_modules", self.n_modules, N_MODULES)
+        C.integer("seed", self.seed, 0, 2 ** 31 - 1)
+        C.choice("lining", self.lining, (True, False))
+        C.choice("rope", self.rope, (None, True, False))
+        D, H = self.diameter, self.height
+        C.number("lining_gap", self.lining_gap, C.Range(0.0, 0.25 * D, "m", hi_open=True, note="below diameter/4"))
+        C.number("module_gap", self.module_gap, C.Range(0.0, D, "m", hi_open=True, note="below the diameter"))
         p = self.preset()
-        if not (0 < p["grain_min"] <= p["grain_max"]):
-            raise ValueError(f"grain sizes must satisfy 0 < grain_min <= grain_max, got {p['grain_min']!r}, {p['grain_max']!r}")
-        if p["grain_max"] > 0.25 * self.diameter:
-            raise ValueError(f"grain_max {p['grain_max']} m is too large for a {self.diameter} m module (max diameter/4)")
-        if not (p["young"] > 0 and math.isfinite(p["young"])):
-            raise ValueError(f"fill_young must be positive, got {p['young']!r}")
-        if not (p["rolling_friction"] >= 0 and math.isfinite(p["rolling_friction"])):
-            raise ValueError(f"rolling_friction must be >= 0, got {p['rolling_friction']!r}")
-        if not (0 <= p["friction_deg"] < 90):
-            raise ValueError(f"fill friction must be in [0, 90) deg, got {p['friction_deg']!r}")
-        if self.boulder_shape not in ("cube", "sphere"):
-            raise ValueError(f"boulder_shape must be 'cube' or 'sphere', got {self.boulder_shape!r}")
-        if self.impact_velocity is None:
-            if not (isinstance(self.drop_height, (int, float)) and math.isfinite(self.drop_height) and self.drop_height > 0):
-                raise ValueError(f"drop_height must be positive (the boulder would start overlapping the module), got {self.drop_height!r}")
-        elif not (math.isfinite(self.impact_velocity) and self.impact_velocity > 0):
-            raise ValueError(f"impact_velocity must be positive, got {self.impact_velocity!r}")
-        ox, oy = self.impact_offset
-        if math.hypot(ox, oy) > 0.5 * self.diameter:
-            raise ValueError(f"impact_offset {self.impact_offset} lies outside the module (radius {0.5 * self.diameter} m)")
-        for k in ("damping", "settle_damping"):
-            if not (0 <= getattr(self, k) < 1):
-                raise ValueError(f"{k} must be in [0, 1), got {getattr(self, k)!r}")
-        if not (0 < self.timestep_safety <= 1):
-            raise ValueError(f"timestep_safety must be in (0, 1], got {self.timestep_safety!r}")
-        if self.n_modules not in (1, 3, 7):
-            raise ValueError(f"n_modules must be 1, 3 or 7, got {self.n_modules!r}")
-        if not (isinstance(self.module_gap, (int, float)) and 0 <= self.module_gap < self.diameter):
-            raise ValueError(f"module_gap must be in [0, diameter), got {self.module_gap!r}")
+        gmax = C.number("grain_max", p["grain_max"], C.Range(0.0, min(0.25 * D, 0.5 * H), "m", lo_open=True,
+                                                            note="at most diameter/4 and height/2"))
+        C.number("grain_min", p["grain_min"], C.Range(0.1 * gmax, gmax, "m", note="grain_max/10 to grain_max: the smallest grain sets the time step"))
+        n = self.body_estimate()
+        if n > C.MAX_BODIES:
+            raise self._too_many_bodies(n)
+        C.vector("impact_offset", self.impact_offset, 2)
+        if math.hypot(*self.impact_offset) > 0.5 * D:
+            raise C.BadValue("impact_offset", self.impact_offset, f"(x, y) within the module's radius, {0.5 * D:g} m")
+        vol = (lambda s: s ** 3) if self.boulder_shape == "cube" else (lambda s: math.pi / 6 * s ** 3)
+        m_lo, m_hi = (self.boulder_density * vol(s) for s in (BOULDER_MIN_SIZE, 3 * D))
+        C.number("boulder_mass", self.boulder_mass, C.Range(m_lo, m_hi, "kg", note=f"a {self.boulder_shape} of "
+                 f"{BOULDER_MIN_SIZE:g} m to 3 x the diameter at {self.boulder_density:g} kg/m3"))
+
+    def body_estimate(self):
+        """Bodies of the filled module, estimated from its geometry without building it (an upper
+        bound: the grains placed on their lattice before they settle, the mesh, rings, lining and
+        rope, the boulder); float, for any size."""
+        p = self.preset()
+        a = 1.025 * p["grain_max"]  # lattice spacing of settle_fill
+        r_lin, r_in = fill_radii(self)
+        side = 2 * max(0.0, r_in - 0.5 * p["grain_max"]) / a + 1
+        grains = 3.4 * self.height / a * side * side
+        up, around = self.height / (0.5 * TECCO_G65_DX) + 1, math.pi * self.diameter / (0.5 * TECCO_G65_DY) + 1
+        mesh = 1.5 * up * around + 2 * around  # nodes, legs, rings
+        cells = (2 * math.pi * max(r_lin, 0.0) / 0.08 + 1) * (self.height / 0.08 + 2)
+        rope = 2 * (math.pi * self.diameter + 6 * (self.diameter + self.module_gap)) / 0.1 if self.with_rope() else 0.0
+        container = 100  # the filling's rigid container (48 x 2 facets) and the slab
+        return self.n_modules * (grains + mesh + 3 * cells + container) + rope + 65  # 65: the cube's clump and 64 members
+
+    def _too_many_bodies(self, n):
+        """BadValue for a module over MAX_BODIES, naming the size that departs most from the
+        default module in its share of the body count (D^2 H / grain_max^3), with the bound that
+        keeps the module within the budget at the other sizes."""
+        ref = dict(diameter=(ModuleParams.diameter, 2), height=(ModuleParams.height, 1), grain_max=(FILLS[self.fill]["grain_max"], -3))
+        value = lambda k: self.preset()[k] if k == "grain_max" else getattr(self, k)
+        name = max(ref, key=lambda k: ref[k][1] * math.log(value(k) / ref[k][0]))
+        others = ", ".join(f"{k} {value(k):g} m" for k in ref if k != name) + f", {self.n_modules} module(s)"
+        budget = f"the module would need about {n:.3g} bodies, more than yadeflex.checks.MAX_BODIES = {C.MAX_BODIES}"
+        ok, bad = ref[name][0], value(name)
+        if dataclasses.replace(self, **{name: ok}).body_estimate() > C.MAX_BODIES:
+            return C.BadValue(name, value(name), f"a smaller module ({others} are large too): {budget}")
+        for _ in range(100):  # bisection in log space between a value within the budget and this one
+            mid = math.sqrt(ok * bad)
+            if dataclasses.replace(self, **{name: mid}).body_estimate() <= C.MAX_BODIES:
+                ok = mid
+            else:
+                bad = mid
+        return C.BadValue(name, value(name), f"{'>=' if name == 'grain_max' else '<='} {ok:.3g} m with {others}: {budget}")
+
+    def resolved(self):
+        """The values a run uses: the parameters with the fill preset's values in place of None
+        (grain sizes, friction, rolling friction, modulus) and the fill's density, the rope,
+        the impact speed and the boulder's size."""
+        p = self.preset()
+        d = dataclasses.asdict(self)
+        d.update(grain_min=p["grain_min"], grain_max=p["grain_max"], fill_friction_deg=p["friction_deg"], rolling_friction=p["rolling_friction"],
+                 fill_young=p["young"], fill_density=p["density"], rope=self.with_rope(), impact_velocity=self.impact_speed(),
+                 boulder_size=self.boulder_size())
+        return d
 
     def centers(self):
         """Module centres (x, y) [m]: the first is the one the boulder hits."""
@@ -388,32 +460,104 @@ def build_filled(params, progress=None):
     return ids
 
 
+CACHE_FORMAT = "yadeflex filled module"
+
+
+def cache_files(params, cache_dir):
+    """(scene file, its metadata file, lock file) of params' filled module in cache_dir."""
+    stem = os.path.join(cache_dir, f"module-{params.fill_key()}")
+    return stem + ".yade.gz", stem + ".json", stem + ".lock"
+
+
+def _sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def cache_problem(params, cache_dir):
+    """Why the cached module of params in cache_dir cannot be loaded, checked before YADE reads
+    the file (a damaged or foreign archive can crash YADE's reader or make it allocate without
+    bound): None if it can, "missing" if there is none, else a sentence. The metadata file
+    written with the scene names the format and the key and holds the scene's size and SHA-256:
+    a file of another module under this key, another YADE scene, a partial or damaged file, or
+    one saved by a yade-flex without metadata are all refused."""
+    f, meta_file, _ = cache_files(params, cache_dir)
+    if not os.path.exists(f):
+        return "missing"
+    try:
+        with open(meta_file) as fh:
+            meta = json.load(fh)
+    except FileNotFoundError:
+        return f"has no metadata file {os.path.basename(meta_file)} (saved by an older yade-flex, or its save was cut short)"
+    except (OSError, ValueError) as e:
+        return f"has an unreadable metadata file {os.path.basename(meta_file)} ({e})"
+    if not isinstance(meta, dict) or meta.get("format") != CACHE_FORMAT:
+        return f"has a metadata file {os.path.basename(meta_file)} that does not describe a filled module"
+    if meta.get("key") != params.fill_key():
+        return f"is described as the filled module {meta.get('key')!r}, not {params.fill_key()!r}"
+    if meta.get("bytes") != os.path.getsize(f) or meta.get("sha256") != _sha256(f):
+        return "is not the file its metadata describes (other size or checksum: damaged, cut short, or replaced)"
+    return None
+
+
 def filled_module(params, cache_dir=None, progress=None):
     """The settled module on O: loaded from the cache when it holds this key (with
-    params.engines(params.damping) set), else built and saved there. A cache file this build
-    cannot read (classes changed since it was saved) is filled again. progress(stage, steps,
-    kinetic energy [J], its target [J]) is called while filling (steps 0: a stage starts).
-    Returns (ids, cache_file, from_cache)."""
+    params.engines(params.damping) set), else built and saved there. A cache file that
+    cache_problem() refuses, or that this build cannot read (classes changed since it was
+    saved), is filled again, with a message. progress(stage, steps, kinetic energy [J], its
+    target [J]) is called while filling (steps 0: a stage starts). Returns (ids, cache_file,
+    from_cache).
+
+    Runs sharing a cache folder: the module is looked up and filled under a lock on its own
+    lock file, so a second run asking for a module another run is filling waits for it and
+    loads it; the scene and its metadata are each written to a temporary file and renamed into
+    place, so a run stopped while saving leaves the old cache or none, never a part. A cache
+    folder that cannot be written is refused before the fill."""
     params.validate()
     cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
-    os.makedirs(cache_dir, exist_ok=True)
-    f = os.path.join(cache_dir, f"module-{params.fill_key()}.yade.gz")
-    if os.path.exists(f):
-        try:
-            O.load(f)
-            O.engines = params.engines(params.damping)
-            return json.loads(O.tags["yadeflex_module"]), f, True
-        except RuntimeError as e:  # saved by a build whose classes have other attributes
-            print(f"yadeflex: the cached module {f} cannot be read by this build ({e}); filling it again", file=sys.stderr)
-            O.reset()
-    build_filled(params, progress=progress)
-    # without engines: an engine's attributes change more often than the bodies', and a
-    # cache must stay readable (the impact sets its own engines anyway)
-    engines_ = O.engines
-    O.engines = []
-    O.save(f + ".tmp.yade.gz")
-    O.engines = engines_
-    os.replace(f + ".tmp.yade.gz", f)
+    f, meta_file, lock = cache_files(params, cache_dir)
+    key = params.fill_key()
+    from .files import locked, write_json
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=cache_dir, prefix=f".{os.path.basename(f)}.", suffix=".yade.gz")  # where a fill is saved
+        os.close(fd)
+    except OSError as e:
+        raise ValueError(f"the module cache folder {cache_dir} cannot be written: {e.strerror or e}") from None
+    try:
+        with locked(lock, waiting=lambda: print(f"yadeflex: waiting for another run that fills the module {f}", flush=True)):
+            problem = cache_problem(params, cache_dir)
+            if problem is None:
+                try:
+                    O.load(f)
+                    stored = O.tags["yadeflex_module_key"] if "yadeflex_module_key" in O.tags.keys() else None
+                    if stored == key:
+                        O.engines = params.engines(params.damping)
+                        return json.loads(O.tags["yadeflex_module"]), f, True
+                    problem = f"holds the module {stored!r}, not {key!r}"
+                except Exception as e:  # saved by a build whose classes have other attributes
+                    problem = f"cannot be read by this build ({type(e).__name__}: {e})"
+                O.reset()
+            if problem != "missing":
+                print(f"yadeflex: the cached module {f} {problem}; filling it again", file=sys.stderr, flush=True)
+            build_filled(params, progress=progress)
+            O.tags["yadeflex_module_key"] = key
+            # without engines: an engine's attributes change more often than the bodies', and a
+            # cache must stay readable (the impact sets its own engines anyway)
+            engines_ = O.engines
+            O.engines = []
+            O.save(tmp)
+            O.engines = engines_
+            meta = dict(format=CACHE_FORMAT, key=key, bytes=os.path.getsize(tmp), sha256=_sha256(tmp))
+            os.chmod(tmp, 0o644)  # mkstemp makes it 0600
+            os.replace(tmp, f)
+            write_json(meta_file, meta)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
     return json.loads(O.tags["yadeflex_module"]), f, False  # as a load returns it (lists, not tuples)
 
 

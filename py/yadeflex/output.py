@@ -42,12 +42,13 @@ import itertools
 import math
 import os
 import re
-import tempfile
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from yade import O
 from yade.wrapper import Box, Facet, FlexCylinder, FlexFacet, FlexNode, PyRunner, Sphere
+
+from .files import clear_matching, write_atomic
 
 # ---- VTK ---------------------------------------------------------------------------------------
 
@@ -219,17 +220,7 @@ def _write_pvd(path, datasets):
     lines += [f'    <DataSet timestep="{t!r}" group="" part="{p}" name={quoteattr(n)} file={quoteattr(f)}/>'
               for t, p, n, f in datasets]
     lines += ["  </Collection>", "</VTKFile>", ""]
-    folder = os.path.dirname(path) or "."
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".pvd")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write("\n".join(lines))
-        os.chmod(tmp, 0o644)  # mkstemp makes it 0600
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write_atomic(path, "\n".join(lines))
 
 
 def _check_name(what, name):
@@ -294,8 +285,9 @@ class VtkRecorder(_Periodic):
     Call it (from a loop, or via runner() from a PyRunner) to write a frame; it writes at most
     one frame per `every` steps [-] and none twice at one iteration. Returns the dict group ->
     path of the frame written (the shared empty file for groups without bodies), or None if it
-    did not write. The .pvd of an earlier run with the same prefix is replaced at the first
-    frame. See the module docstring for the groups, their data and the empty-group rule."""
+    did not write. An earlier series with the same prefix in the folder (its .pvd and frames,
+    files_pattern(prefix)) is removed when the recorder is made, so that no frame of it stays next
+    to the new ones. See the module docstring for the groups, their data and the empty-group rule."""
 
     def __init__(self, folder, prefix="flex", every=1):
         super().__init__(every)
@@ -304,7 +296,13 @@ class VtkRecorder(_Periodic):
         self.pvd = os.path.join(folder, prefix + ".pvd")
         self.frames = []  # (time [s], iteration, {group: file name}) of the frames written
         self.groups = []  # groups seen so far, in GROUPS order
+        clear_matching(folder, self.files_pattern(prefix))
         os.makedirs(folder, exist_ok=True)
+
+    @staticmethod
+    def files_pattern(prefix="flex"):
+        """Regular expression of the names of the files a recorder with this prefix writes."""
+        return re.escape(prefix) + r"(\.pvd|_(" + "|".join(GROUPS) + r")_(\d{6,}|empty)\.vtu)|\.tmp-.*\.pvd"
 
     def _empty_file(self, g):
         return f"{self.prefix}_{g}_empty.vtu"

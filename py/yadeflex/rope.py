@@ -2,6 +2,7 @@
 import math
 
 from . import builders as B
+from . import checks as C
 
 
 def _hull(points):
@@ -33,9 +34,16 @@ def rope_around(centers, module_radius, z, material, rope_radius=0.004, segment_
     into them (the nodes on the arcs lie slightly outside). Returns (node_ids, cylinder_ids)."""
     Rm = B._positive("module radius", module_radius) + B._positive("rope radius", rope_radius)
     h = B._positive("segment length", segment_length)
-    cs = [(float(c[0]), float(c[1])) for c in centers]
+    z = C.number("z", z, C.Range(unit="m"))
+    try:
+        cs = [C.vector("centers", c, 2) for c in centers]
+    except TypeError:
+        raise C.BadValue("centers", centers, "a sequence of (x, y) points") from None
     if not cs:
-        raise ValueError("rope_around needs at least one module centre")
+        raise C.BadValue("centers", centers, "at least one module centre")
+    B._material(material)
+    span = sum(max(c[i] for c in cs) - min(c[i] for c in cs) for i in (0, 1))
+    C.body_budget("segment length", segment_length, 2 * (2 * math.pi * Rm + 2 * span) / h)
     # fine samples on every circle; the hull of the samples follows arcs and tangents
     n = max(64, int(2 * math.pi * Rm / (0.25 * h)))
     hull = _hull([(x + Rm * math.cos(2 * math.pi * k / n), y + Rm * math.sin(2 * math.pi * k / n)) for x, y in cs for k in range(n)])
@@ -53,7 +61,7 @@ def rope_around(centers, module_radius, z, material, rope_radius=0.004, segment_
         a, b = hull[k], hull[(k + 1) % len(hull)]
         pts.append((a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])))
     pts = _clear_of_circles(pts, cs, Rm)
-    return B.chain([(x, y, float(z)) for x, y in pts], rope_radius, material, closed=True, fixed=fixed)
+    return B.chain([(x, y, z) for x, y in pts], rope_radius, material, closed=True, fixed=fixed)
 
 
 def _segment_distance(c, a, b):

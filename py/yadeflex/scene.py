@@ -12,6 +12,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionL
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator, FlexGuard,
                           FlexCylinder, FlexNode, Sphere)
 
+from . import checks as C
 from .builders import check_finite
 
 
@@ -23,6 +24,18 @@ def _min_contact_radius():
         if isinstance(b.shape, (FlexCylinder, Sphere)):
             r = min(r, b.shape.radius)
     return r
+
+
+DAMPING = C.Range(0.0, 1.0, hi_open=True, note="local damping")
+TIMESTEP_SAFETY = C.Range(0.0, 1.0, lo_open=True, note="x the critical step")
+ROLLING_FRICTION = C.Range(0.0, 1.0, note="rolling moment / (normal force x radius)")
+
+
+def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5):
+    """(gravity Vector3, damping, timestep_safety) checked as engines() checks them: scenes
+    check them before they build anything."""
+    return (check_finite("gravity", gravity), C.number("damping", damping, DAMPING),
+            C.number("timestep_safety", timestep_safety, TIMESTEP_SAFETY))
 
 
 def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
@@ -50,11 +63,13 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     bodies per step. Or a FlexGuard to use. Off by default: it still raises false alarms on
     driven scenes (tensile tests booking energy before their first external work).
     """
-    g = check_finite("gravity", gravity)
-    if not (0 <= damping < 1):
-        raise ValueError(f"damping must be in [0, 1), got {damping!r}")
-    if not (0 < timestep_safety <= 1):
-        raise ValueError(f"timestep_safety must be in (0, 1], got {timestep_safety!r}")
+    g, damping, timestep_safety = engine_args(gravity, damping, timestep_safety)
+    timestep_interval = C.integer("timestep_interval", timestep_interval, 1)
+    if verlet is not None:
+        verlet = C.number("verlet", verlet, C.Range(0.0, unit="m"))
+    flex_sphere_contacts = C.boolean("flex_sphere_contacts", flex_sphere_contacts)
+    rolling_stiffness = C.number("rolling_stiffness", rolling_stiffness, C.Range(0.0))
+    rolling_friction = C.number("rolling_friction", rolling_friction, ROLLING_FRICTION)
     for b in O.bodies:
         if b is not None and isinstance(b.shape, FlexNode) and b.state.mass <= 0 and b.state.blockedDOFs != "xyzXYZ":
             raise ValueError(f"FlexNode #{b.id} has no mass: attach cylinders to it or fix it")

@@ -10,27 +10,43 @@ from yade.minieigenHP import Vector3, Quaternion
 from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
 
 from . import builders as B
-from .materials import steel, flex_material
-from .scene import engines
+from . import checks as C
+from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO
+from .scene import engines, engine_args
 
 
 def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact_ratio=0.25, velocity=(0, 0, 0)):
     """A rigid sphere (FrictMat) at center [m], radius [m]; returns its id."""
     c = B.check_finite("sphere center", center)
     r = B._positive("sphere radius", radius)
-    B._positive("sphere density", density)
-    B._positive("sphere young", young)
+    C.number("sphere density", density, DENSITY)
+    C.number("sphere young", young, MODULUS)
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    C.number("contact_ratio", contact_ratio, CONTACT_RATIO)
+    v = B.check_finite("sphere velocity", velocity)
+    C.body_budget("sphere", center, 1)
     mat = FrictMat(young=young, poisson=contact_ratio, density=density, frictionAngle=math.radians(friction_deg))
     O.materials.append(mat)
     b = Body()
     b.shape = Sphere(radius=r)
     b.material = mat
     b.state.pos = c
-    b.state.vel = B.check_finite("sphere velocity", velocity)
+    b.state.vel = v
     m = density * 4.0 / 3.0 * math.pi * r ** 3
     b.state.mass = m
     b.state.inertia = Vector3(1, 1, 1) * (0.4 * m * r * r)
     return O.bodies.append(b)
+
+
+def _check_chain(segments, length, radius, material=None, names=("segments", "length", "radius")):
+    """The arguments of a chain that a scene builds after O.reset, checked before it: a count
+    of segments, a length and a radius [m], a FlexMat (None: the scene's default); names: the
+    scene's names of the first three."""
+    B._segments(names[0], segments)
+    B._positive(names[1], length)
+    B._positive(names[2], radius)
+    if material is not None:
+        B._material(material, append=False)
 
 
 def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, gravity=9.81, damping=0.8, material=None):
@@ -39,8 +55,10 @@ def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, grav
     load: 'tip' (force [N] downwards at the free end), 'axial' (force [N] along +x at the
     free end) or 'self' (own weight, gravity [m/s2] along -z). Returns dict(nodes, cylinders,
     tip, params)."""
-    if load not in ("tip", "axial", "self"):
-        raise ValueError(f"load must be 'tip', 'axial' or 'self', got {load!r}")
+    C.choice("load", load, ("tip", "axial", "self"))
+    _check_chain(segments, length, radius, material)
+    C.number("force", force, C.Range(unit="N"))
+    engine_args((0, 0, gravity), damping)
     O.reset()
     mat = material or steel()
     nodes, cyls = B.chain([(0, 0, 0), (length, 0, 0)], radius, mat, segments=segments, fixed=[0])
@@ -57,6 +75,7 @@ def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, grav
 def advance(n):
     """Advance n steps. O.run(n, True) costs ~40 ms of waiting per call in YADE 2023.02a, so
     short advances step in-process instead; the engines run identically."""
+    n = C.integer("n", n, 0)
     if n >= 20000:
         O.run(n, True)
     else:
@@ -67,6 +86,9 @@ def advance(n):
 def settle(ids, rel_tol=1e-9, chunk=2000, max_steps=2_000_000):
     """Run until the positions of `ids` change by less than rel_tol x their displacement
     from the start over one chunk. Returns the number of steps; raises if not converged."""
+    ids = B._body_ids("ids", ids)
+    C.positive("rel_tol", rel_tol)
+    chunk, max_steps = C.integer("chunk", chunk, 1), C.integer("max_steps", max_steps, 1)
     start = [Vector3(O.bodies[i].state.pos) for i in ids]
     prev = None
     steps = 0
@@ -85,8 +107,12 @@ def settle(ids, rel_tol=1e-9, chunk=2000, max_steps=2_000_000):
 
 def rotate_rigidly(ids, axis, angle, center=(0, 0, 0)):
     """Rotate bodies (positions and orientations) rigidly by angle [rad] about axis through center."""
-    q = Quaternion(Vector3(*axis).normalized(), angle)
-    c = Vector3(*center)
+    ids = B._body_ids("ids", ids)
+    ax = B.check_finite("axis", axis)
+    if ax.norm() == 0:
+        raise C.BadValue("axis", axis, "a non-zero vector")
+    q = Quaternion(ax.normalized(), C.number("angle", angle, C.Range(unit="rad")))
+    c = B.check_finite("center", center)
     for i in ids:
         s = O.bodies[i].state
         s.pos = c + q * (s.pos - c)
@@ -95,6 +121,9 @@ def rotate_rigidly(ids, axis, angle, center=(0, 0, 0)):
 
 def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, gravity=9.81, damping=0.0):
     """Helical spring of `segments` cylinders hanging from its first node under gravity."""
+    _check_chain(segments, coil_radius, wire_radius, names=("segments", "coil_radius", "wire_radius"))
+    C.number("pitch", pitch, C.Range(unit="m"))
+    engine_args((0, 0, gravity), damping)
     O.reset()
     mat = steel()
     nodes, cyls = B.helix(segments, coil_radius, pitch, wire_radius, mat)
@@ -108,6 +137,14 @@ def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5
     at speed [m/s], starting gap [m] above the wires; sphere_young [Pa], sphere_density
     [kg/m3], friction_deg [deg] for wires and sphere; material: the wires' FlexMat (default
     steel with friction_deg)."""
+    n = C.integer("n", n, 2, C.MAX_BODIES)
+    C.body_budget("n", n, 3.0 * n * n)
+    _check_chain(1, spacing, wire_radius, material, names=("n", "spacing", "wire_radius"))
+    for name, v, rng in (("sphere_radius", sphere_radius, C.Range(0.0, unit="m", lo_open=True)), ("speed", speed, C.Range(unit="m/s")),
+                         ("sphere_young", sphere_young, MODULUS), ("sphere_density", sphere_density, DENSITY),
+                         ("friction_deg", friction_deg, FRICTION_DEG), ("gap", gap, C.Range(0.0, unit="m"))):
+        C.number(name, v, rng)
+    engine_args((0, 0, gravity), damping)
     O.reset()
     mat = material if material is not None else steel(friction_deg=friction_deg)
     grid, cyls = B.net(n, spacing, wire_radius, mat)
@@ -124,6 +161,12 @@ def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_ra
                   ring_segments=36, ball_radius=0.08, drop_height=0.5, damping=0.0):
     """The demo scene: a wire clamped at both ends sagging under its weight, and a steel ring
     resting on it at mid-span, hit by a falling ball (drop_height [m] above the ring)."""
+    _check_chain(wire_segments, wire_length, wire_radius, names=("wire_segments", "wire_length", "wire_radius"))
+    _check_chain(C.integer("ring_segments", ring_segments, 3), ring_radius, ring_bar_radius,
+                 names=("ring_segments", "ring_radius", "ring_bar_radius"))
+    B._positive("ball_radius", ball_radius)
+    C.number("drop_height", drop_height, C.Range(0.0, unit="m"))
+    engine_args(damping=damping)
     O.reset()
     mat = steel(friction_deg=25.0)
     wn, wc = B.chain([(-wire_length / 2, 0, 0), (wire_length / 2, 0, 0)], wire_radius, mat, segments=wire_segments,

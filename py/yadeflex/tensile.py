@@ -9,13 +9,17 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 from . import builders as B
-from .scene import engines
+from . import checks as C
+from .scene import engines, engine_args
+from .scenes import _check_chain
 
 
 def single_wire(material, length=0.1, radius=0.0015, segments=1, damping=0.0):
     """A straight wire (or rope, bar) along x, clamped at node 0; the last node is driven (all
     its DOFs blocked) by drive_strains. length, radius [m]; damping [-] Cundall's local damping
     of the free inner nodes (segments > 1). Returns dict(nodes, cylinders, driven, params)."""
+    _check_chain(segments, length, radius, material)
+    engine_args(damping=damping)
     O.reset()
     nodes, cyls = B.chain([(0, 0, 0), (length, 0, 0)], radius, material, segments=segments, fixed=[0, segments])
     O.engines = engines(gravity=(0, 0, 0), damping=damping)
@@ -29,6 +33,13 @@ def drive_strains(scene, strains, steps_per_unit_strain=2e5, dt=None):
     Between targets the node moves at constant velocity over ceil(|de| x steps_per_unit_strain)
     steps. Returns lists (strain, force of the first cylinder or None once it ruptured, or the
     force on the driven node if `scene` has several segments, iteration)."""
+    try:
+        strains = [C.number("strains", e, C.Range(-0.9, 10.0)) for e in strains]
+    except TypeError:
+        raise C.BadValue("strains", strains, "a sequence of numbers") from None
+    C.number("steps_per_unit_strain", steps_per_unit_strain, C.Range(1.0, 1e8))
+    if dt is not None:
+        C.positive("dt", dt, "s")
     L = scene["params"]["length"]
     d = O.bodies[scene["driven"]]
     c0 = scene["cylinders"][0]
@@ -68,17 +79,20 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     yadeflex.mesh) or 'transverse' (across the spirals, x). width, height [m] along x, y; damping [-] Cundall's
     local damping (quasi-static); clamp: 'pinned' (edge knots held in translation, free to turn,
     as wires wrapped around a clamping bar) or 'fixed'. Returns dict(held, driven, axis, length, loaded_width, ...)."""
-    from .mesh import chain_link_panel
+    from .mesh import chain_link_panel, panel_counts
     from .wire import tecco_wire
-    if direction not in ("longitudinal", "transverse"):
-        raise ValueError(f"direction must be 'longitudinal' or 'transverse', got {direction!r}")
+    C.choice("direction", direction, ("longitudinal", "transverse"))
+    C.choice("clamp", clamp, ("pinned", "fixed"))
+    B._positive("speed", speed)
+    engine_args(damping=damping)
+    if material is not None:
+        B._material(material, append=False)
+    panel_counts(width, height)
     O.reset()
     mat = material if material is not None else tecco_wire(seed=seed)
     p = chain_link_panel(width, height, mat)
     axis = 1 if direction == "longitudinal" else 0
     held, driven = (p["edges"]["left"], p["edges"]["right"]) if axis == 0 else (p["edges"]["bottom"], p["edges"]["top"])
-    if clamp not in ("pinned", "fixed"):
-        raise ValueError(f"clamp must be 'pinned' (translations held, wires free to turn) or 'fixed', got {clamp!r}")
     dofs = "xyz" if clamp == "pinned" else "xyzXYZ"
     B.fix(held, dofs)
     B.fix(driven, dofs)
@@ -100,6 +114,9 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
     stop_fraction x its peak, or the elongation reaches max_elongation [-]. Returns dict with lists elongation [-]
     and force per metre of loaded width [N/m] (mean of the driven and the held edge), the peak
     and the elongation at the peak, ruptured links and the engines' time."""
+    C.positive("max_elongation", max_elongation, hi=10.0)
+    C.integer("chunk", chunk, 1)
+    C.number("stop_fraction", stop_fraction, C.Range(0.0, 1.0, hi_open=True))
     ax, L, w = scene["axis"], scene["length"], scene["loaded_width"]
     x0 = O.bodies[scene["driven"][0]].state.pos[ax]
     el, fm, unbalance = [], [], []
@@ -164,6 +181,13 @@ def write_curve(path_base, columns, xlabel, ylabel, title, x="elongation", y="fo
     return path_base + ".csv", path_base + ".png"
 
 
+def _check_ring(segments, ring_radius, bar_radius, material):
+    """A ring loaded at two opposite nodes, checked before O.reset."""
+    _check_chain(segments, ring_radius, bar_radius, material, names=("segments", "ring_radius", "bar_radius"))
+    if segments % 2 or segments < 4:
+        raise C.BadValue("segments", segments, "an even number >= 4 (two opposite nodes)")
+
+
 def ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48, rel_deflection=1e-4, material=None):
     """Steel ring (bar radius [m]) pulled apart by two opposite point loads P along z: node
     at the bottom held in translation, the top node loaded with +P, damped to rest.
@@ -175,11 +199,11 @@ def ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48, rel_deflect
     that delta = rel_deflection x R (linear range). Returns dict(delta, theory, theory_thin, P)."""
     from .materials import steel
     from .scenes import settle
+    _check_ring(segments, ring_radius, bar_radius, material)
+    C.positive("rel_deflection", rel_deflection, hi=0.01)
     O.reset()
     mat = material if material is not None else steel()
     nodes, cyls = B.ring((0, 0, 0), ring_radius, bar_radius, mat, segments=segments, axis=(0, 1, 0))
-    if segments % 2:
-        raise ValueError("segments must be even (two opposite nodes)")
     bottom, top = nodes[0], nodes[segments // 2]
     E = mat.young
     I = math.pi * bar_radius ** 4 / 4
@@ -204,6 +228,7 @@ def rope_tensile_test(length=1.0, segments=1, damping=0.0, steps_per_unit_strain
     """6x7 FC rope (yadeflex.rope_6x7_8mm) pulled to rupture. Returns dict(strain, force, EA
     (secant at 20% of the breaking force), rupture_force (largest force carried), ...)."""
     from .materials import rope_6x7_8mm
+    C.number("steps_per_unit_strain", steps_per_unit_strain, C.Range(1.0, 1e8))
     mat = material if material is not None else rope_6x7_8mm()
     s = single_wire(mat, length=length, radius=0.004, segments=segments, damping=damping)
     e_break = mat.tensileStrength * math.pi * 0.004 ** 2 / (mat.young * math.pi * 0.004 ** 2)
@@ -221,6 +246,11 @@ def ring_pull(ring_radius=0.3, bar_radius=0.005, segments=48, stretch=0.3, speed
     until the diameter grew by stretch x ring_radius. Returns dict(deflection [m], force [N],
     linear_stiffness [N/m] of thin-ring theory, params)."""
     from .materials import steel
+    _check_ring(segments, ring_radius, bar_radius, material)
+    C.positive("stretch", stretch, hi=2.0)
+    B._positive("speed", speed)
+    engine_args(damping=damping)
+    C.integer("chunk", chunk, 1)
     O.reset()
     mat = material if material is not None else steel()
     nodes, cyls = B.ring((0, 0, 0), ring_radius, bar_radius, mat, segments=segments, axis=(0, 1, 0))

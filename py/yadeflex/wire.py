@@ -8,6 +8,7 @@ slack_scale * xi, xi symmetric triangular on [0, 1], drawn once per link from `s
 link's two node ids (reproducible, independent of thread count and O.reset()), reached
 through a soft initial branch ending at force_ratio x the first point's force.
 """
+from . import checks as C
 from .materials import flex_material
 
 # High-tensile steel wire, tensile strength 1770 N/mm2 (TECCO wire, Geobrugg; docs/model.md).
@@ -37,15 +38,14 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
         raise ValueError(f"wire curve: strain and stress must be sequences of numbers, got {strain!r}, {stress!r}") from None
     if young is None:
         young = s[0] / e[0] if e and s and e[0] > 0 and s[0] > 0 else 200e9
-    if not isinstance(seed, int) or not (-2 ** 31 <= seed < 2 ** 31):
-        raise ValueError(f"seed must be a 32-bit integer, got {seed!r}")
+    C.integer("seed", seed, -2 ** 31, 2 ** 31 - 1)
     m = flex_material(young=young, density=density, friction_deg=friction_deg, beam_poisson=beam_poisson,
                       contact_ratio=contact_ratio, tension_only=True, bending_factor=bending_factor, label=label,
                       contact_young=contact_young)
     m.wireStrain = e
     m.wireStress = s
-    m.wireSlackScale = float(slack_scale)
-    m.wireForceRatio = float(force_ratio)
+    m.wireSlackScale = C.number("slack_scale", slack_scale, C.Range(0.0, 1.0, hi_open=True, note="slack strain of a link"))
+    m.wireForceRatio = C.number("force_ratio", force_ratio, C.Range(0.0, 1.0, lo_open=True))
     m.wireSeed = seed
     err = m.wireError()
     if err:

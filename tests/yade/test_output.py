@@ -199,6 +199,24 @@ def test_vtk_runner_every_and_pvd_valid_after_each_frame(scene, tmp_path):
     assert not [f for f in os.listdir(tmp_path) if f.startswith(".tmp")]
 
 
+def test_vtk_an_earlier_series_does_not_survive(scene, tmp_path):
+    """A new recorder removes the series an earlier one wrote with its prefix (a longer run's
+    frames would stand next to the new ones, outside the new .pvd), not other files."""
+    yf.chain([(0, 0, 0), (1, 0, 0)], 0.002, yf.steel(), segments=2, fixed=[0])
+    O.engines = yf.engines()
+    first = yf.VtkRecorder(str(tmp_path))
+    for _ in range(3):
+        first()
+        O.step()
+    (tmp_path / "notes.txt").write_text("the user's\n")
+    (tmp_path / "other.pvd").write_text("another series\n")
+    second = yf.VtkRecorder(str(tmp_path))
+    assert sorted(os.listdir(tmp_path)) == ["notes.txt", "other.pvd"]
+    second()
+    named = {f for _, fr in _frames(second.pvd) for _, f in fr}
+    assert {f for f in os.listdir(tmp_path) if f.endswith(".vtu")} == named | {f"flex_{g}_empty.vtu" for g in second.groups}
+
+
 def test_vtk_boxes_and_rigid_facets(scene, tmp_path):
     """Hexahedra in VTK's corner order (a wrong order gives a wrong or negative volume)."""
     from yade import utils
