@@ -188,7 +188,14 @@ def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=
     fixed steel spheres (support_radius [m]) under its ends, bouncing off them again and again:
     every bounce is a contact that separates and starts anew. element_young [Pa] is the bar's
     modulus, contact_young [Pa] its contacts': a softer element than contact makes the bonds'
-    critical step far longer than the contacts'. No damping; friction_deg [deg] for both."""
+    critical step far longer than the contacts'. No damping; friction_deg [deg] for both;
+    timestep_safety [-] and timestep_interval [-] of the time stepper."""
+    _check_chain(segments, length, radius, names=("segments", "length", "radius"))
+    for name, v, rng in (("drop", drop, C.Range(0.0, 1.0, "m")), ("element_young", element_young, MODULUS), ("contact_young", contact_young, MODULUS),
+                         ("support_radius", support_radius, C.Range(0.0, 1.0, "m", lo_open=True)), ("friction_deg", friction_deg, FRICTION_DEG)):
+        C.number(name, v, rng)
+    C.integer("timestep_interval", timestep_interval, 1, 10 ** 9)
+    engine_args((0, 0, 9.81), 0.0, timestep_safety)
     O.reset()
     mat = flex_material(young=element_young, density=7850.0, friction_deg=friction_deg, contact_young=contact_young)
     half = 0.5 * length
