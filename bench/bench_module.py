@@ -22,7 +22,6 @@
 # force-time and penetration-time, and prints a table.
 import argparse
 import csv
-import dataclasses
 import json
 import math
 import os
@@ -39,7 +38,7 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, G  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, touches, G  # noqa: E402
 import builtin_module as bm  # noqa: E402
 
 
@@ -58,10 +57,7 @@ def parse():
     ap.add_argument("--out", default=os.path.join(BENCH, "results"))
     a = ap.parse_args(sys.argv[me + 1:])
     bm.DT_FACTOR = a.builtin_dt_factor
-    p = ModuleParams()
-    if a.small:
-        p = dataclasses.replace(p, diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
-    return a, p
+    return a, ModuleParams.small() if a.small else ModuleParams()
 
 
 def filled(p, cache_dir):
@@ -161,19 +157,13 @@ def pfacet_overlap():
     return d, n
 
 
-def touching(bid):
-    """Whether the boulder (a clump's members, or a sphere) has a real interaction."""
-    b = O.bodies[bid]
-    for m in (list(b.shape.members.keys()) if b.isClump else [bid]):
-        if any(i.isReal for i in O.interactions.withBody(m)):
-            return True
-    return False
-
-
-def run_impact(label, bid, size, top0, grains, lining_tris, mesh_nodes, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
-               diag=None):
-    """Runs the impact from the current scene, recording like scripts/damping_module.py. Returns a dict:
-    rows (time series), summary numbers, energy at the end. O.saveTmp(label) at timing_at after contact."""
+def run_model(label, bid, size, top0, grains, lining_tris, mesh_nodes, t_max=0.3, record_every=2e-4, timing_at=0.005, dt_update=None, ruptured=None,
+                diag=None):
+    """Runs the impact from the current scene of either model, recording the boulder as the main job
+    does (force m (a_z + g) every record_every, penetration below top0, end at the rebound + 20%).
+    One loop for both models, so that they are recorded and timed alike (yadeflex.impact.run_impact
+    runs the yade-flex scene only). Returns a dict: rows (time series), summary numbers, energy at
+    the end. O.saveTmp(label) at timing_at after contact."""
     boulder = O.bodies[bid]
     mass = boulder.state.mass
     O.trackEnergy = True
@@ -213,7 +203,7 @@ def run_impact(label, bid, size, top0, grains, lining_tris, mesh_nodes, t_max=0.
         v_prev, t_prev = Vector3(st.vel), O.time
         f = mass * (acc[2] + G)
         bottom = st.pos[2] - 0.5 * size
-        if t_contact is None and touching(bid):
+        if t_contact is None and touches(bid):
             t_contact = O.time
             t_end = O.time + t_max
         if t_contact is not None and not saved and O.time >= t_contact + timing_at:
@@ -333,8 +323,8 @@ def main():
     el = [e for e in O.engines if e.label == "flexElements"][0]
     print(f"ours: {len(ids['grains'])} grains, {len(ids['mesh_cylinders'])} wire legs, {len(ids['ring_top']) + len(ids['ring_bottom'])} ring "
           f"segments, {len(ids['lining'])} lining facets; damping {p.damping}", flush=True)
-    results = [run_impact("yade-flex", bid, p.boulder_size(), top0, ids["grains"], lining_triangles(ids["lining"]), ids["mesh_nodes"], timing_at=a.timing_at,
-                          ruptured=lambda: el.nRuptured)]
+    results = [run_model("yade-flex", bid, p.boulder_size(), top0, ids["grains"], lining_triangles(ids["lining"]), ids["mesh_nodes"], timing_at=a.timing_at,
+                         ruptured=lambda: el.nRuptured)]
     # ---- built-in
     info = bm.build(geo)
     print(f"built-in: {len(info['grains'])} grains, {info['links']} WirePM links ({info['ring_links']} ring), {len(info['lining_facets'])} PFacets, "
@@ -356,8 +346,8 @@ def main():
         top_b = bm.fill_top(info)
         b = bm.add_boulder(info, p)
         label = f"built-in d={damping}"
-        results.append(run_impact(label, b, p.boulder_size(), top_b, info["grains"], lining_triangles(info["lining_facets"]), info["mesh_nodes"], timing_at=a.timing_at, dt_update=200,
-                                  ruptured=broken, diag=pfacet_overlap))
+        results.append(run_model(label, b, p.boulder_size(), top_b, info["grains"], lining_triangles(info["lining_facets"]), info["mesh_nodes"], timing_at=a.timing_at, dt_update=200,
+                                 ruptured=broken, diag=pfacet_overlap))
         results[-1]["top0"] = top_b
     results[0]["top0"] = top0
     # ---- timing, interleaved

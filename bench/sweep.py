@@ -38,7 +38,6 @@
 #               fill top, energy taken from the boulder 60 ms after first contact. Knobs: dt fraction,
 #               grain size (new fill each, cached by yadeflex.module.filled_module).
 import argparse
-import dataclasses
 import json
 import math
 import os
@@ -60,6 +59,7 @@ from machine import machine_line  # noqa: E402
 from tol_ref import cantilever_reference, E as E_STEEL  # noqa: E402
 
 from yadeflex import scenes  # noqa: E402
+from yadeflex.module import ModuleParams, touches  # noqa: E402
 
 DT_FRACTIONS = (0.25, 0.5, 0.8, 1.0)
 
@@ -529,14 +529,6 @@ def sweep_net(quick):
 MOD = dict(window=0.060, record=2e-4, builtin_damping=0.2, dt_update=200, builtin_wall_cap=300.0)  # cap [s]: see impact_window
 
 
-def small_params(grains=None):
-    from yadeflex.module import ModuleParams
-    p = dataclasses.replace(ModuleParams(), diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
-    if grains is not None:
-        p = dataclasses.replace(p, grain_min=grains[0], grain_max=grains[1])
-    return p
-
-
 def filled_cache(p):
     """Cache file of the filled module of p, on O (yadeflex.module.filled_module: loaded, or built and
     saved when missing or unreadable by the installed plugin)."""
@@ -548,17 +540,14 @@ def filled_cache(p):
     return f
 
 
-def _touching(bid):
-    b = O.bodies[bid]
-    return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
-
-
 def impact_window(bid, top0, size, window, record, every=None, each=None, wall_cap=math.inf):
     """Steps from the boulder's release to `window` [s] after its first contact. Peak force
     m (dv_z/dt + g) over `record` [s] intervals, deepest penetration of its lowest point below top0,
     energy it lost (kinetic + potential) at the end. each(): called every `every` steps (time-step update).
     wall_cap [s]: a run still going after this much wall time stops with status "not finished"
-    (the built-in module's step collapses on fine fills: one such run had not ended after 45 min)."""
+    (the built-in module's step collapses on fine fills: one such run had not ended after 45 min).
+    One loop for both implementations, so that their wall times compare (yadeflex.impact.run_impact
+    runs the yade-flex scene only, and records much more)."""
     from yadeflex.module import G
     st = O.bodies[bid].state
     m = st.mass
@@ -587,7 +576,7 @@ def impact_window(bid, top0, size, window, record, every=None, each=None, wall_c
             break
         f = m * ((st.vel[2] - v_prev[2]) / (O.time - t_prev) + G)
         v_prev, t_prev = Vector3(st.vel), O.time
-        if t_contact is None and _touching(bid):
+        if t_contact is None and touches(bid):
             t_contact = O.time
             t_end = t_contact + window
         if t_contact is not None:
@@ -654,14 +643,14 @@ def sweep_module(quick):
     ref_frac = fracs[0]
     grain_sizes = [] if quick else [(0.045, 0.06), (0.035, 0.045)]
     rows = []
-    module_runs(small_params(), fracs, rows, "dt fraction", lambda f: f)
+    module_runs(ModuleParams.small(), fracs, rows, "dt fraction", lambda f: f)
     for r in rows:
         r["reference"] = r["value"] == ref_frac
     # grain size: mean diameter [m] as the knob value, at the default dt fraction
     for r in [r for r in rows if r["dt_fraction"] == def_frac]:
         rows.append(dict(r, knob="grain size", value=0.5 * (r["grain_min"] + r["grain_max"]), reference=False, shared="same run as dt fraction 0.5"))
     for g in grain_sizes:
-        module_runs(small_params(g), (def_frac,), rows, "grain size", lambda f, g=g: 0.5 * (g[0] + g[1]))
+        module_runs(ModuleParams.small(grain_min=g[0], grain_max=g[1]), (def_frac,), rows, "grain size", lambda f, g=g: 0.5 * (g[0] + g[1]))
     if grain_sizes:
         finest = min(r["value"] for r in rows if r["knob"] == "grain size")
         for r in rows:

@@ -604,6 +604,12 @@ def add_boulder(params, ids, gap=0.005):
     return cid
 
 
+def touches(bid):
+    """Whether body bid (a clump: one of its members) has a real interaction."""
+    b = O.bodies[bid]
+    return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
+
+
 def impact_start(params, cache_dir=None, max_fall=0.5):
     """The main job's impact up to the boulder's first contact: loads (or fills) the module,
     adds the boulder and the impact engines, and steps until the boulder touches something (for
@@ -615,7 +621,7 @@ def impact_start(params, cache_dir=None, max_fall=0.5):
     boulder = O.bodies[bid]
     members = set(boulder.shape.members.keys()) if boulder.isClump else {bid}
     t0 = O.time
-    while not any(i.isReal for m in members for i in O.interactions.withBody(m)):
+    while not touches(bid):
         if O.time - t0 > max_fall:
             raise RuntimeError("the boulder never touched the module")
         O.run(50, True)

@@ -5,18 +5,18 @@ parse(argv) returns (options, ModuleParams) or raises OptionError, whose text is
 the job prints before it exits with status 1:
 
     bad option --record-every: got nan; allowed [1e-06, 0.001] s (...)
+
+run_settings(options) gives the run options as yadeflex.impact.run_impact takes them.
 """
 import argparse
 import dataclasses
 import os
 
 from . import checks as C
-from .impact import ImpactTimes
+from .impact import ImpactTimes, RunSettings, EXIT
 from .module import ModuleParams, FILLS, LIMITS, BOULDER_SHAPES, N_MODULES, SMALL
 
-PROG = "damping_module"
 DEFAULT_RUN = ImpactTimes.MAX_AFTER_CONTACT  # [s] longest impact run without --duration (else until the rebound + a margin)
-EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)  # the job's exit status by how it ended
 EXIT_CODES = ((EXIT["done"], "done"),
               (EXIT["failed"], "bad input (one line names the option and the values allowed) or another error"),
               (EXIT["unstable"], "a NaN, an unstable state or a collapsed time step (the message names the body)"),
@@ -36,7 +36,7 @@ RUN_LIMITS = dict(
                             "impact; 0: never"),
     max_residual=C.Range(0.0, 1.0, lo_open=True, note="largest accepted energy-balance residual, fraction of the impact energy"),
 )
-DEFAULTS = dict(duration=None, record_every=2e-4, vtk_every=5e-3, min_dt_fraction=0.01, max_residual=0.02)
+DEFAULTS = {name: getattr(RunSettings, name) for name in RUN_LIMITS}
 BOOLEAN_WORDS = "/".join(C.TRUE_WORDS[:2] + C.FALSE_WORDS[:2] + ("1", "0"))
 
 
@@ -178,3 +178,9 @@ def _checked(option, check, *args):
         return check(*args)
     except C.BadValue as e:
         raise _bad(option or _option(e.name), e.value, e.allowed) from None
+
+
+def run_settings(a):
+    """The run options of parsed options `a` as yadeflex.impact.run_impact's keyword arguments
+    (RunSettings' fields)."""
+    return {f.name: getattr(a, f.name) for f in dataclasses.fields(RunSettings)}

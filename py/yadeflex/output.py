@@ -35,7 +35,7 @@ frame). A group that never had a body has no file at all.
 The frame is stamped with O.time and O.iter. Called from a PyRunner after the integrator,
 positions are already advanced by one step while O.time is not: negligible for display.
 
-CSV files use the header convention of scripts/demo_cylinders.py: NAME[UNIT].
+CSV files (EnergyRecorder, read_csv) have headers NAME[UNIT].
 """
 import csv
 import itertools

@@ -48,7 +48,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     cylinder or sphere radius in the scene; 0.25 r runs the collider 60% more often on a
     net impact, 1-2 r gains nothing more, measured). The time step is set by FlexTimeStepper
     to timestep_safety x the critical step: stability needs < 1, accuracy of stiff, short
-    contacts needs less (the wire-and-ring demo's energy residual: 5% at 0.8, 0.47% at 0.5,
+    contacts needs less (the energy residual of scenes.wire_and_ring: 5% at 0.8, 0.47% at 0.5,
     0.24% at 0.3, measured), hence 0.5. flex_sphere_contacts: sphere-sphere contacts use
     yade-flex's contact geometry and law (friction dissipation consistent with the leap-frog
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.

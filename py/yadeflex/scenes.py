@@ -1,4 +1,4 @@
-"""Scenes defined once, reused by the demo, the tests and the benchmarks.
+"""Scenes defined once, reused by the tests and the benchmarks.
 
 Each builder resets O, builds the scene with typed, unit-annotated parameters and returns a
 dict with the ids that matter and the parameters used (saved with results).
@@ -159,7 +159,7 @@ def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5
 
 def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_radius=0.3, ring_bar_radius=0.005,
                   ring_segments=36, ball_radius=0.08, drop_height=0.5, damping=0.0):
-    """The demo scene: a wire clamped at both ends sagging under its weight, and a steel ring
+    """A wire clamped at both ends sagging under its weight, and a steel ring
     resting on it at mid-span, hit by a falling ball (drop_height [m] above the ring)."""
     _check_chain(wire_segments, wire_length, wire_radius, names=("wire_segments", "wire_length", "wire_radius"))
     _check_chain(C.integer("ring_segments", ring_segments, 3), ring_radius, ring_bar_radius,

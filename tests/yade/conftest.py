@@ -26,6 +26,13 @@ from yade import O  # noqa: E402
 assert O.numThreads == 1, "in-process YADE tests must run with one OpenMP thread"
 
 
+@pytest.fixture(scope="session")
+def module_cache(tmp_path_factory):
+    """The folder of the filled modules the tests load (filled on first use, then loaded from
+    there): a temporary one, never the user's cache."""
+    return str(tmp_path_factory.mktemp("module_cache"))
+
+
 @pytest.fixture
 def scene():
     O.reset()

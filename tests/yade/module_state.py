@@ -5,12 +5,13 @@ from yade import O
 from yadeflex.module import ModuleParams, filled_module, add_boulder
 
 
-def reduced_impact(steps_after_contact=200):
-    """On O: the reduced module (filled, or loaded from the cache) with its boulder and the main
-    job's engines without damping, energies tracked, run until the boulder touches and then
-    `steps_after_contact` steps (contacts under load). Returns the boulder's id."""
+def reduced_impact(cache_dir, steps_after_contact=200):
+    """On O: the reduced module (filled, or loaded from the folder cache_dir) with its boulder and
+    the main job's engines without damping, energies tracked, run until the boulder touches and
+    then `steps_after_contact` steps (contacts under load). Returns the boulder's id and the
+    module's ids."""
     p = ModuleParams.small()
-    ids, _, _ = filled_module(p)
+    ids, _, _ = filled_module(p, cache_dir=cache_dir)
     bid = add_boulder(p, ids)
     O.engines = p.engines(0.0)
     O.trackEnergy = True

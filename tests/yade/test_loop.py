@@ -33,10 +33,10 @@ def _loop():
 
 
 @pytest.fixture(scope="module")
-def impact_state():
+def impact_state(module_cache):
     """The reduced module a few hundred steps into its impact, saved in memory."""
     O.reset()
-    bid, _ = reduced_impact()
+    bid, _ = reduced_impact(module_cache)
     O.saveTmp("loop")
     yield bid
     O.reset()

@@ -57,6 +57,22 @@ def test_an_earlier_runs_files_do_not_survive(first_run):
     assert json.loads((out / "summary.json").read_text())["status"] == "done"
 
 
+def test_the_library_runner_writes_the_rows_of_the_job(first_run, tmp_path, scene):
+    """yadeflex.impact.run_impact called in this process (no progress lines) writes the rows the
+    main job writes from the same cached fill, bit for bit (one thread): the job is its options and
+    this one call."""
+    from yadeflex.impact import run_impact
+    from yadeflex.module import ModuleParams
+    base, _, _ = first_run
+    r, _ = _run(tmp_path / "job", base / "cache", "--small", "--no-vtk")
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    s = run_impact(ModuleParams.small(), str(tmp_path / "lib"), cache_dir=str(base / "cache"), progress=False, no_vtk=True)
+    assert s["status"] == "done" and s["exit_status"] == 0 and s["filled_from_cache"]
+    assert s == json.loads((tmp_path / "lib" / "summary.json").read_text())
+    for f in ("timeseries.csv", "energy.csv", "params.json"):
+        assert (tmp_path / "lib" / f).read_bytes() == (tmp_path / "job" / f).read_bytes(), f
+
+
 def _start(out, cache, *args, log=None):
     """The main job in the background, SIGINT at its default (a shell may start it ignored);
     its output goes to the file `log` (default OUT.log)."""

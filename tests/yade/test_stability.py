@@ -1,6 +1,6 @@
 """Stability of the net impact at and above the estimated critical step (issue 6), with the runner
-of bench/stability.py (time step = factor x FlexTimeStepper.dtCritical every step, FlexGuard
-first, energy balance from O.energy).
+of the stability suite, yadeflex.stability (time step = factor x FlexTimeStepper.dtCritical every
+step, FlexGuard first, energy balance from O.energy).
 
 Scene: 20 x 20 steel wires 50 mm apart, r = 2 mm, border clamped, sphere r = 0.1 m at 5 m/s
 (scenes.net_impact), no damping: every joule stays in kinetic, elastic, gravity and friction
@@ -12,13 +12,10 @@ then grows to the whole energy scale within a few hundred steps). The sweep foun
 blow-up between 1.0 and 1.5 (STABILITY.md); at 3x it starts within a few hundred steps.
 """
 import math
-import os
-import sys
 
 from yade import O
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "bench"))
-import stability as st  # noqa: E402
+from yadeflex import stability as st
 
 
 def _net(t_end):

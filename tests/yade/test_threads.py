@@ -63,7 +63,7 @@ def test_time_step_estimate_is_the_same_on_two_threads():
         assert abs(b[k] / a[k] - 1) < 1e-12, k
 
 
-def test_per_thread_force_sums_give_the_forces_of_add_force():
+def test_per_thread_force_sums_give_the_forces_of_add_force(module_cache):
     """On several threads FlexInteractionLoop (threadSums) and the element loops of
     FlexElementEngine (from parallelMin elements on) sum their forces in each thread's own
     arrays and add them to O.forces once per body after the pass (flexa::ThreadForceSums), where
@@ -71,7 +71,7 @@ def test_per_thread_force_sums_give_the_forces_of_add_force():
     impact (grains, wires, rings, lining, slab, boulder), three steps at -j2 from one state: every
     body's force and torque must equal those of the addForce path up to round-off (a force left
     out of the merge, or added twice, is a contact force: newtons, not 1e-12 of the largest)."""
-    out = run_yade(os.path.join(HERE, "scripts", "sums_threads_scene.py"), threads=2)
+    out = run_yade(os.path.join(HERE, "scripts", "sums_threads_scene.py"), threads=2, args=[module_cache])
     d = json.loads([l for l in out.splitlines() if l.startswith("SUMS ")][-1][5:])
     ref = d["reference"]
     assert ref["threads"] == 2 and not ref["usedThreadSums"] and ref["real"] > 50

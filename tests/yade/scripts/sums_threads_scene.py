@@ -2,14 +2,15 @@
 # its impact; one step from that state with each setting of the per-thread force sums
 # (FlexInteractionLoop.threadSums; FlexElementEngine.parallelMin 1: both element loops on two
 # threads, with their sums; huge: serial, addForce per node). Prints, per setting, every body's
-# force and torque after the step as JSON.
+# force and torque after the step as JSON. Argument: the folder of the filled module (the tests' cache).
 import json
+import sys
 
 from yade import O
 
 from module_state import reduced_impact
 
-bid, ids = reduced_impact()
+bid, ids = reduced_impact(sys.argv[1])
 O.saveTmp("sums")
 out = {}
 for name, sums, pmin in (("reference", False, 10**9), ("sums", True, 1), ("sums_default", True, None)):

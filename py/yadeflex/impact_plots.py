@@ -1,0 +1,43 @@
+"""The plots of a damping-module impact (yadeflex.impact.run_impact) from its recorded rows:
+impact.png (forces on the boulder and the slab, penetration, bulging, ring and rope forces) and
+energy.png (the energy terms and the balance residual)."""
+import os
+
+
+def write_plots(folder, rows, erows, keys):
+    """impact.png and energy.png into folder; rows: timeseries.csv's, erows: energy.csv's, keys:
+    the energy terms to draw."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = [1e3 * r["t"] for r in rows]
+    fig, ax = plt.subplots(2, 2, figsize=(11, 7))
+    ax[0, 0].plot(t, [r["impact_force"] / 1e3 for r in rows], label="on the boulder")
+    ax[0, 0].plot(t, [r["slab_force"] / 1e3 for r in rows], label="on the slab")
+    ax[0, 0].set(xlabel="t [ms]", ylabel="force [kN]", title="impact and slab forces")
+    ax[0, 0].legend()
+    ax[0, 1].plot(t, [1e3 * r["penetration"] for r in rows])
+    ax[0, 1].set(xlabel="t [ms]", ylabel="penetration [mm]", title="boulder penetration")
+    ax[1, 0].plot(t, [1e3 * r["bulge_max"] for r in rows], label="max")
+    ax[1, 0].plot(t, [1e3 * r["bulge_mean"] for r in rows], label="mean")
+    ax[1, 0].set(xlabel="t [ms]", ylabel="radial bulging [mm]", title="mesh at mid-height")
+    ax[1, 0].legend()
+    ax[1, 1].plot(t, [r["ring_top_force"] / 1e3 for r in rows], label="top ring")
+    ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
+    if any(r["rope_force"] for r in rows):
+        ax[1, 1].plot(t, [r["rope_force"] / 1e3 for r in rows], label="boundary rope")
+    ax[1, 1].set(xlabel="t [ms]", ylabel="max axial force [kN]", title="rings and rope")
+    ax[1, 1].legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "impact.png"), dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(10, 6))
+    te = [1e3 * e["t"] for e in erows]
+    for k in keys:
+        ax.plot(te, [e.get(k, 0.0) for e in erows], label=k)
+    ax.plot(te, [e["residual"] for e in erows], "k--", label="balance residual")
+    ax.set(xlabel="t [ms]", ylabel="energy [J]", title="energy budget (work terms with YADE's signs)")
+    ax.legend(fontsize=8, ncol=2)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "energy.png"), dpi=110)
+    plt.close(fig)
