@@ -1,16 +1,17 @@
 // yade-flex adapter: the scene check (GPL-2.0-or-later). What and why: FlexSceneCheck.hpp.
 #include "FlexSceneCheck.hpp"
-#include "Flex.hpp"
+#include "FlexCommon.hpp"
 #include "FlexFacet.hpp"
 
 #include <core/InteractionLoop.hpp>
 #include <pkg/common/Sphere.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_set>
+#include <vector>
 
 namespace yade {
 namespace flexa {
@@ -44,7 +45,7 @@ namespace flexa {
 			return os.str();
 		}
 
-		void checkNodes(const Scene* scene, const Body& b, const int* ids, int n)
+		void checkNodes(const Scene* scene, const Body& b, const int* ids, int n, const std::vector<char>& isNode)
 		{
 			const auto& bodies = scene->bodies->body;
 			static const char* names[3] = { "node1", "node2", "node3" };
@@ -53,7 +54,7 @@ namespace flexa {
 				if (id < 0 || (size_t)id >= bodies.size() || !bodies[id])
 					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a body of the scene");
 				const Shape* s = bodies[id]->shape.get();
-				if (!s || typeid(*s) != typeid(FlexNode))
+				if (!isNode[id])
 					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a FlexNode (it is a " + (s ? s->getClassName() : std::string("body without shape")) + ")");
 				for (int c = 0; c < a; ++c)
 					if (ids[c] == id) refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " repeats " + names[c]);
@@ -150,32 +151,64 @@ namespace flexa {
 
 	void checkScene(const Scene* scene, bool force)
 	{
-		static const Scene* lastScene = nullptr;
-		static long         lastIter  = -1;
+		static const Scene*      lastScene = nullptr;
+		static long              lastIter  = -1;
+		static std::vector<char> isNode; // per body id: a FlexNode (filled by the pass over the bodies)
 		if (!force && scene == lastScene && scene->iter == lastIter) return;
 		checkEngines(scene);
-		std::unordered_set<const Material*> materials;
-		for (const auto& bp : scene->bodies->body) {
-			if (!bp) continue;
-			const Body& b       = *bp;
+		// one pass over the bodies in id order, their states and shapes asked for ahead (the
+		// pass reads every body's state: without, it waits on each); the elements' nodes are
+		// then checked against the table of node ids, not by visiting the node bodies again
+		const shared_ptr<Body>* body = scene->bodies->body.data();
+		const long              n    = (long)scene->bodies->body.size();
+		isNode.assign(n, 0);
+		std::vector<const Material*> materials; // (a scene has a handful)
+		const Material*              lastMat = nullptr;
+		std::vector<const Body*> elements; // (checked against the node table once it is complete)
+		for (long id = 0; id < n; ++id) {
+			// two levels ahead: the body 32 ahead, then what is read of the one 16 ahead
+			if (id + 32 < n) flexa::prefetch(body[id + 32].get(), sizeof(Body));
+			if (id + 16 < n)
+				if (const Body* c = body[id + 16].get()) {
+					flexa::prefetch(c->state.get(), 192); // (the fields read: a few lines, not all of State)
+					flexa::prefetch(c->shape.get(), 64);
+				}
+			if (!body[id]) continue;
+			const Body&  b       = *body[id];
 			const Shape* sh      = b.shape.get();
 			bool         element = false;
 			if (sh) {
-				if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) {
-					const int ids[2] = { c->node1, c->node2 };
-					checkNodes(scene, b, ids, 2);
-					checkRadius(b, c->radius);
-					element = true;
-				} else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) {
-					const int ids[3] = { f->node1, f->node2, f->node3 };
-					checkNodes(scene, b, ids, 3);
-					checkRadius(b, f->radius);
-					element = true;
-				} else if (const Sphere* s = dynamic_cast<const Sphere*>(sh))
-					checkRadius(b, s->radius);
+				const std::type_info& t = typeid(*sh);
+				if (t == typeid(FlexNode)) isNode[id] = 1;
+				else if (t == typeid(Sphere))
+					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
+				else if ((element = flexa::fastCast<FlexCylinder>(sh) || flexa::fastCast<FlexFacet>(sh)))
+					elements.push_back(&b);
+				else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
+					checkRadius(b, sp->radius);
 			}
 			if (b.state) checkState(b, element);
-			if (b.material && materials.insert(b.material.get()).second) checkMaterial(b, b.material.get());
+			const Material* m = b.material.get();
+			if (m && m != lastMat) {
+				lastMat = m;
+				if (std::find(materials.begin(), materials.end(), m) == materials.end()) {
+					materials.push_back(m);
+					checkMaterial(b, m);
+				}
+			}
+		}
+		for (const Body* bp : elements) {
+			const Body&  b  = *bp;
+			const Shape* sh = b.shape.get();
+			if (const FlexCylinder* c = flexa::fastCast<FlexCylinder>(sh)) {
+				const int ids[2] = { c->node1, c->node2 };
+				checkNodes(scene, b, ids, 2, isNode);
+				checkRadius(b, c->radius);
+			} else if (const FlexFacet* f = flexa::fastCast<FlexFacet>(sh)) {
+				const int ids[3] = { f->node1, f->node2, f->node3 };
+				checkNodes(scene, b, ids, 3, isNode);
+				checkRadius(b, f->radius);
+			}
 		}
 		lastScene = scene;
 		lastIter  = scene->iter;
