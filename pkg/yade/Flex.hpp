@@ -330,7 +330,7 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	bool              simple          = false; // no clump, no aspherical body: the fast path applies
 	void              refresh();
 	void              flagElements(); // collider trigger from element nodes (both paths)
-	// the same trigger per node on the fast path (see buildNodeTable in FlexEngines.cpp)
+	// the same trigger per node on the fast path (see buildNodeTable in FlexNewtonIntegrator.cpp)
 	std::vector<char>     isMover;
 	std::vector<Real>     nodeSweep; // smallest sweep of the bounds of the node's elements, -1: none
 	std::vector<Vector3r> nodeRef;   // node position when those bounds were built

@@ -137,6 +137,10 @@ namespace flexa {
 		return (id < 0 || (size_t)id >= v.size()) ? nullptr : v[id].get();
 	}
 
+	/// How many times the scene's InsertionSortCollider has run (-1: the scene has none): bounds
+	/// and potential interactions change only when it runs (FlexTimeStepper, FlexNewtonIntegrator).
+	long insertionSortColliderRuns(const Scene* scene);
+
 	/// Counts the elements FlexElementEngine has erased (rupture), in any scene: FlexNewtonIntegrator
 	/// rebuilds its node table of the collider trigger when it changes.
 	inline long& elementErasures()

@@ -1,0 +1,325 @@
+// yade-flex adapter: FlexNewtonIntegrator, NewtonIntegrator for scenes with yade-flex elements
+// (GPL-2.0-or-later). Declaration: Flex.hpp.
+#include "FlexCommon.hpp"
+#include "FlexSceneCheck.hpp"
+
+#include <core/Clump.hpp>
+#include <lib/factory/ClassFactory.hpp>
+
+#include <algorithm>
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
+
+namespace yade {
+
+YADE_PLUGIN((FlexNewtonIntegrator));
+
+void FlexNewtonIntegrator::refresh()
+{
+	simple = true;
+	movers.clear();
+	elements.clear();
+	facets.clear();
+	for (const auto& b : *scene->bodies) {
+		if (!b) continue;
+		if (b->isClumpMember()) continue; // moved by its clump
+		// aspherical bodies take NewtonIntegrator's aspherical integrator (and its kinetic energy);
+		// a clump with isotropic inertia, not flagged aspherical, integrates like a sphere
+		if (b->isAspherical()) simple = false;
+		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) elements.push_back(b->id);
+		else if (b->shape && dynamic_cast<const FlexFacet*>(b->shape.get()))
+			facets.push_back(b->id);
+		else
+			movers.push_back(b->id);
+	}
+	isMover.assign(scene->bodies->size(), 0);
+	for (Body::id_t id : movers)
+		isMover[id] = 1;
+	cachedBodyCount = scene->bodies->size();
+	tableRuns       = -2; // rebuild the node table
+}
+
+// The collider re-runs when some bounded body left the sweep of its bound; NewtonIntegrator
+// reports that through maxVelocitySq (2: left, 0.5: inside). An element's bound comes from its
+// nodes (Bo1_FlexCylinder_Aabb), so judge it by the nodes' motion since that bound was built.
+void FlexNewtonIntegrator::flagElements()
+{
+	Real flag = 0;
+	for (Body::id_t id : elements) {
+		const Body* b = flexa::bodyAt(scene, id);
+		if (!b || !b->bound) continue;
+		const FlexCylinder* c = static_cast<const FlexCylinder*>(b->shape.get());
+		const State *s1 = flexa::stateOf(scene, c->node1), *s2 = flexa::stateOf(scene, c->node2);
+		if (!s1 || !s2) continue;
+		const Real d = std::max((s1->pos - c->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - c->boundRef2).cwiseAbs().maxCoeff());
+		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+		if (flag == 2) break;
+	}
+	for (Body::id_t id : facets) {
+		if (flag == 2) break;
+		const Body* b = flexa::bodyAt(scene, id);
+		if (!b || !b->bound) continue;
+		const FlexFacet* f  = static_cast<const FlexFacet*>(b->shape.get());
+		const State *    s1 = flexa::stateOf(scene, f->node1), *s2 = flexa::stateOf(scene, f->node2), *s3 = flexa::stateOf(scene, f->node3);
+		if (!s1 || !s2 || !s3) continue;
+		const Real d = std::max({ (s1->pos - f->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - f->boundRef2).cwiseAbs().maxCoeff(),
+		                          (s3->pos - f->boundRef3).cwiseAbs().maxCoeff() });
+		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+	}
+	maxVelocitySq = std::max(maxVelocitySq, flag);
+}
+
+// The same trigger per node, for the fast path: every bound is rebuilt from the nodes' current
+// positions whenever the collider runs (BoundDispatcher processes all bodies), so all elements at
+// a node share its reference position. An element's test "some node moved by d != 0, d >= its
+// sweep" is then "some node moved by d != 0, d >= the smallest sweep of its elements": one test per
+// node in the integrator's own loop instead of one pass over all elements per step. The table is
+// rebuilt when the collider ran, bodies were added or an element was erased; if two elements
+// disagree on a node's reference (a bound built some other way), flagElements is used instead.
+bool FlexNewtonIntegrator::buildNodeTable()
+{
+	const auto&  bodies = *scene->bodies;
+	const size_t n      = bodies.size();
+	nodeSweep.assign(n, -1);
+	nodeRef.resize(n);
+	nodeBase = 0;
+	auto addElement = [&](const Body& b, const int* nodes, const Vector3r* refs, int nNodes) -> bool {
+		for (int k = 0; k < nNodes; ++k)
+			if (!flexa::stateOf(scene, nodes[k])) return true; // skipped, as in flagElements
+		nodeBase         = 0.5;
+		const Real sweep = b.bound->sweepLength;
+		for (int k = 0; k < nNodes; ++k) {
+			const Body::id_t nid = nodes[k];
+			if (!isMover[nid]) return false; // not integrated in the fast loop (a clump member)
+			Real& sw = nodeSweep[nid];
+			if (sw < 0) {
+				sw           = sweep;
+				nodeRef[nid] = refs[k];
+			} else if (nodeRef[nid] != refs[k]) return false;
+			else
+				sw = std::min(sw, sweep);
+		}
+		return true;
+	};
+	for (Body::id_t id : elements) {
+		const shared_ptr<Body>& b = bodies[id];
+		if (!b || !b->bound) continue;
+		const FlexCylinder* c        = static_cast<const FlexCylinder*>(b->shape.get());
+		const int           nodes[2] = { c->node1, c->node2 };
+		const Vector3r      refs[2]  = { c->boundRef1, c->boundRef2 };
+		if (!addElement(*b, nodes, refs, 2)) return false;
+	}
+	for (Body::id_t id : facets) {
+		const shared_ptr<Body>& b = bodies[id];
+		if (!b || !b->bound) continue;
+		const FlexFacet* f        = static_cast<const FlexFacet*>(b->shape.get());
+		const int        nodes[3] = { f->node1, f->node2, f->node3 };
+		const Vector3r   refs[3]  = { f->boundRef1, f->boundRef2, f->boundRef3 };
+		if (!addElement(*b, nodes, refs, 3)) return false;
+	}
+	return true;
+}
+
+namespace {
+	// The collider trigger of NewtonIntegrator::saveMaximaDisplacement (2: a body left the sweep
+	// of its bound, 0.5: inside), into a per-thread maximum; Clump::moveMembers calls it for members.
+	struct MemberSweep {
+		Real& mx;
+		void  saveMaximaDisplacement(const shared_ptr<Body>& b)
+		{
+			if (!b->bound) return;
+			const Real d = (b->state->pos - b->bound->refPos).cwiseAbs().maxCoeff();
+			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
+		}
+	};
+	// Cundall's non-viscous damping factor 1 - c sign(x_i) of each component (x_i = a_i v_i, v at
+	// mid-step), picked among 1 - c, 1 + c and 1 (the same values, bit for bit): about 5
+	// instructions a component instead of 22 (sign as an int, converted, multiplied, in a loop
+	// writing the vectors' components one by one; callgrind on the wire-net bench)
+	struct DampFactors {
+		Real     minus, plus; // 1 - c, 1 + c
+		Real     of(Real x) const { return x > 0 ? minus : (x < 0 ? plus : Real(1)); }
+		Vector3r factors(const Vector3r& x) const { return Vector3r(of(x[0]), of(x[1]), of(x[2])); }
+	};
+}
+
+Real FlexNewtonIntegrator::dampingOnBlockedDofs()
+{
+	scene->forces.sync();
+	Real sum = 0;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !b->isStandalone()) continue; // (a clump's summed force is NewtonIntegrator's own)
+		const State& st = *b->state;
+		if (!st.blockedDOFs || !st.isDamped) continue;
+		const Vector3r f = scene->forces.getForce(b->id) + st.mass * gravity;
+		const Vector3r m = scene->forces.getTorque(b->id);
+		for (int i = 0; i < 3; ++i) {
+			if (st.blockedDOFs & State::axisDOF(i, false)) sum += std::abs(st.vel[i]) * std::abs(f[i]);
+			if (st.blockedDOFs & State::axisDOF(i, true)) sum += std::abs(st.angVel[i]) * std::abs(m[i]);
+		}
+	}
+	return sum * damping * scene->dt;
+}
+
+void FlexNewtonIntegrator::action()
+{
+	flexa::checkScene(scene);
+	flexa::checkTimeStep(scene);
+	if (scene->bodies->size() != cachedBodyCount) refresh();
+	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
+	if (!usedFastPath) {
+		// NewtonIntegrator books |v_i| |F_i + m g_i| c dt on every component of a damped body,
+		// blocked ones too, where no damping acts (a driven DOF): what it will book there, from
+		// the same velocities and forces, is taken back after it ran
+		const Real blockedDamping = scene->trackEnergy && damping != 0 && !scene->isPeriodic ? dampingOnBlockedDofs() : 0;
+		NewtonIntegrator::action();
+		if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
+		flagElements();
+		return;
+	}
+	scene->forces.sync();
+	const Real dt    = scene->dt;
+	const bool track = scene->trackEnergy;
+	const long runs  = flexa::insertionSortColliderRuns(scene);
+	if (runs < 0) nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
+	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
+		nodeTableOk    = buildNodeTable();
+		tableRuns      = runs;
+		tableErasures  = flexa::elementErasures();
+	}
+	const bool  byNode = nodeTableOk;
+	const Real* nSweep = nodeSweep.data();
+	const Vector3r* nRef = nodeRef.data();
+	// the collider trigger's maximum (0.5: every body inside its sweep, 2: one left it), each
+	// thread's own in the reduction. It was a table of per-thread entries, 8 bytes apart and
+	// written at every body, so two threads wrote one cache line by turns: the integrator took
+	// 1.18x less time on two threads than on one; 1.92x less with the reduction (the damping
+	// module 5 ms into the impact, medians of 5 runs; bench/README.md, "Two threads")
+	Real sweepMax = 0;
+	const shared_ptr<Body>* bodies = scene->bodies->body.data();
+	const long n      = (long)movers.size();
+	const Body::id_t* mv = movers.data();
+	const bool        pf = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
+	const DampFactors damp { 1 - damping, 1 + damping };
+	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
+	long nDamp = 0;
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax)
+#endif
+	for (long k = 0; k < n; ++k) {
+		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
+			if (k + 8 < n) flexa::prefetch(bodies[mv[k + 8]].get(), sizeof(Body));
+			if (k + 4 < n)
+				if (const Body* bb = bodies[mv[k + 4]].get()) {
+					flexa::prefetch(bb->state.get(), sizeof(State));
+					if (bb->bound) flexa::prefetch(bb->bound.get(), sizeof(Aabb));
+				}
+		}
+		const Body::id_t        id = mv[k];
+		const shared_ptr<Body>& b  = bodies[id];
+		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
+		State* st = b->state.get();
+		Real& mx = sweepMax;
+		if (b->isClump()) { // the members' forces and moments about the clump's centre, added as NewtonIntegrator does
+			Vector3r F = Vector3r::Zero(), T = Vector3r::Zero();
+			static_cast<Clump*>(b->shape.get())->addForceTorqueFromMembers(st, scene, F, T);
+#ifdef YADE_OPENMP
+			scene->forces.addTorqueUnsynced(id, T);
+			scene->forces.addForceUnsynced(id, F);
+#else
+			scene->forces.addTorque(id, T);
+			scene->forces.addForce(id, F);
+#endif
+		}
+		const Vector3r f = scene->forces.getForce(id);
+		const Vector3r m = scene->forces.getTorque(id);
+		const unsigned blocked = st->blockedDOFs;
+		if (track) {
+			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
+			// included), kinetic energy before the update, work of gravity -m g.v dt. Unlike
+			// NewtonIntegrator, damping is booked on free DOFs only: a blocked (driven) DOF is not
+			// damped, and booking |v||F| c dt there would claim energy nothing dissipated. Summed
+			// here and booked once per step (with addEnergy below, O.trackEnergy went from 9.7% to
+			// 3.8% of a granular step, both changes together, paired).
+			if (damping != 0 && st->isDamped && blocked != State::DOF_ALL) {
+				++nDamp;
+				if (blocked == 0) // the common case
+					eDamp += (st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) + st->angVel.cwiseAbs().dot(m.cwiseAbs())) * damping * dt;
+				else {
+					Real e = 0;
+					for (int i = 0; i < 3; ++i) {
+						if (!(blocked & State::axisDOF(i, false))) e += std::abs(st->vel[i]) * std::abs(f[i] + st->mass * gravity[i]);
+						if (!(blocked & State::axisDOF(i, true))) e += std::abs(st->angVel[i]) * std::abs(m[i]);
+					}
+					eDamp += e * damping * dt;
+				}
+			}
+			eKinT += 0.5 * st->mass * st->vel.squaredNorm();
+			eKinR += 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
+			eGrav += -gravity.dot(st->vel) * st->mass * dt;
+		}
+		if (blocked != State::DOF_ALL) {
+			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
+			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
+			Vector3r a, al;
+			if (blocked == 0) { // the common case, as vectors (the same IEEE operations per component)
+				a = dampGravity ? Vector3r(f / st->mass + gravity) : Vector3r(f / st->mass);
+				// no moment (the nodes of bar and truss links, grains without contact): +-0 / I is
+				// +-0 for I > 0, so the quotient is the moment itself, bit for bit, without its
+				// three divisions
+				if (m[0] == 0 && m[1] == 0 && m[2] == 0 && st->inertia[0] > 0 && st->inertia[1] > 0 && st->inertia[2] > 0) al = m;
+				else
+					al = m.cwiseQuotient(st->inertia);
+			} else {
+				a = al = Vector3r::Zero();
+				for (int i = 0; i < 3; ++i) {
+					if (!(blocked & State::axisDOF(i, false))) a[i] = f[i] / st->mass + (dampGravity ? gravity[i] : 0);
+					if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
+				}
+			}
+			if (st->isDamped && damping != 0) {
+				a  = a.cwiseProduct(damp.factors(a.cwiseProduct(st->vel + (0.5 * dt) * a)));
+				al = al.cwiseProduct(damp.factors(al.cwiseProduct(st->angVel + (0.5 * dt) * al)));
+			}
+			if (!dampGravity)
+				for (int i = 0; i < 3; ++i)
+					if (!(blocked & State::axisDOF(i, false))) a[i] += gravity[i];
+			st->vel += dt * a;
+			st->angVel += dt * al;
+		}
+		st->pos += st->vel * dt;
+		const Real w2 = st->angVel.squaredNorm();
+		if (w2 != 0) {
+			const Real w = sqrt(w2);
+			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
+		}
+		// Eigen's normalize() (divide by sqrt(|q|^2) if |q|^2 > 0), written out so that |q|^2 is
+		// computed once, and skipped when |q|^2 is exactly 1, where it is the identity (sqrt(1) = 1,
+		// x / 1 = x): a node that never turned saves a square root and four divisions
+		const Real q2 = st->ori.squaredNorm();
+		if (q2 != 1 && q2 > 0) st->ori.coeffs() /= sqrt(q2);
+		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
+			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
+			if (!(d == 0 || d < nSweep[id])) mx = 2;
+		}
+		MemberSweep sweep { mx };
+		sweep.saveMaximaDisplacement(b); // collider trigger, as NewtonIntegrator
+		if (b->isClump()) Clump::moveMembers(b, scene, &sweep);
+	}
+	if (track && n > 0) {
+		if (nDamp) flexa::addEnergy(scene, eDamp, "nonviscDamp", nonviscDampIx, false);
+		if (!kinSplit) flexa::addEnergy(scene, eKinT + eKinR, "kinetic", kinEnergyIx, true);
+		else {
+			flexa::addEnergy(scene, eKinT, "kinTrans", kinEnergyTransIx, true);
+			flexa::addEnergy(scene, eKinR, "kinRot", kinEnergyRotIx, true);
+		}
+		flexa::addEnergy(scene, eGrav, "gravWork", fieldWorkIx, false);
+	}
+	maxVelocitySq = sweepMax;
+	if (byNode) maxVelocitySq = std::max(maxVelocitySq, nodeBase);
+	else
+		flagElements();
+}
+
+} // namespace yade
