@@ -332,8 +332,8 @@ def fill_radii(params):
     them, whose chords cut inwards by R (1 - cos(dy/D))). The lining is a polygon too, its nodes
     on r_lin: the grains stay inside the middles of its flat facets, r_lin cos(pi / n), less half
     its thickness (settled against r_lin itself they started the structure stage overlapping
-    the lining by up to its sagitta, 1.7 mm on the default module: 8-18 kN on 1 g lining nodes
-    at the first step, measured 2026-11-23)."""
+    the lining by up to its sagitta, 1.7 mm on the default module, and pushed its 1 g nodes
+    with kilonewtons at the first step)."""
     from .mesh import TECCO_G65_DY
     R = 0.5 * params.diameter
     r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
@@ -449,8 +449,8 @@ def build_filled(params, progress=None):
     # kinetic energy alone is not enough: the grains released by the container stand just clear
     # of the lining (they settled inside its flat facets) and creep out onto it, slowly, under
     # this damping; stopped on the kinetic energy the cached fill had no grain touching the
-    # lining and sank 2.5 mm once released without damping (bench/fill_equilibrium.py,
-    # 2026-11-23). The unbalanced force holds it until the fill bears on the lining.
+    # lining and sank once released without damping (bench/fill_equilibrium.py). The
+    # unbalanced force holds it until the fill bears on the lining.
     if progress:
         progress("structure (mesh, rings, lining) on the fill", 0, float("nan"), 10 * ke_tol)
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke, tol: progress("structure", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)

@@ -76,9 +76,9 @@ def _clear_of_circles(pts, centers, R, rel_tol=1e-9):
     """Move the vertices of the closed polygon pts outward, each from its nearest centre, until
     no chord comes closer than R to any centre. Vertices on the arcs of the hull leave chords
     that cut into the circle by their sagitta, R (1 - cos(h / 2R)): 6 mm for 0.1 m segments on
-    a 0.2 m module, and a rope built there starts by pushing the mesh wires away with about
-    100 kN (measured 2026-11-23: mesh nodes at 100 m/s in the first steps of a three-module
-    fill). Pushed out, the chords touch the circles at their middles (a circumscribed polygon)
+    a 0.2 m module, and a rope built there would start by pushing the mesh wires away with
+    forces of the order of 100 kN (mesh nodes thrown at 100 m/s in the first steps of a
+    three-module fill). Pushed out, the chords touch the circles at their middles (a circumscribed polygon)
     and stay straight along the tangents between modules."""
     pts = [list(p) for p in pts]
     m = len(pts)
