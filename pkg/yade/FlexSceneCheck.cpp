@@ -51,11 +51,13 @@ namespace flexa {
 			static const char* names[3] = { "node1", "node2", "node3" };
 			for (int a = 0; a < n; ++a) {
 				const int id = ids[a];
-				if (id < 0 || (size_t)id >= bodies.size() || !bodies[id])
+				// the node table answers for the bodies that are nodes; only a refusal visits the body
+				if (id < 0 || (size_t)id >= bodies.size() || (!isNode[id] && !bodies[id]))
 					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a body of the scene");
-				const Shape* s = bodies[id]->shape.get();
-				if (!isNode[id])
+				if (!isNode[id]) {
+					const Shape* s = bodies[id]->shape.get();
 					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a FlexNode (it is a " + (s ? s->getClassName() : std::string("body without shape")) + ")");
+				}
 				for (int c = 0; c < a; ++c)
 					if (ids[c] == id) refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " repeats " + names[c]);
 			}
