@@ -30,6 +30,7 @@
 #pragma once
 #include "FlexPch.hpp"
 #include "FlexForces.hpp"
+#include "FlexTuning.hpp"
 
 namespace yade {
 
@@ -272,7 +273,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexElementEngine, GlobalEngine,
 		"Internal forces of all :yref:`FlexCylinder` bonds (co-rotational beam, pkg/kernel/Beam.hpp) and :yref:`FlexFacet` membranes (constant-strain triangle, pkg/kernel/Membrane.hpp, and their follower pressure). An element that ruptures is erased with its body (it stops interacting entirely; its nodes keep their mass) and counted. Books 'flexBondElastic', 'flexBondPlastic', 'flexMembraneElastic', 'flexPressureWork' and 'flexRupture' in O.energy.",
 		((int, nRuptured, 0, , "Number of bonds ruptured so far [-]"))
-		((int, parallelMin, 500, , "Run each element loop (cylinders, facets) on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (measured on 2 cores: a 200-element helix takes 2x longer with -j2; the damping module's 660 cylinders and 608 facets 1.9x shorter at -j2 with 500 than with 2000, 155 against 296 us per step; 2000 until 2026-11-23). On one thread the loop is always the serial one [-]"))
+		((int, parallelMin, flexa::tuning::kElementParallelMin, , "Run each element loop (cylinders, facets) on several threads only from this many elements on: below, OpenMP's fork and join cost more than they save (bench/README.md, 'Two threads'). On one thread the loop is always the serial one [-]"))
 		((vector<int>, rupturedIds, , Attr::readonly, "Ids of ruptured elements, in order"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, plastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
@@ -283,6 +284,11 @@ public:
 	// clang-format on
 };
 REGISTER_SERIALIZABLE(FlexElementEngine);
+
+namespace flexa {
+	/// FlexTimeStepper.safety's default, and yadeflex.engines()' (which reads it from the class).
+	constexpr Real kDefaultTimeStepSafety = 0.5;
+}
 
 class FlexTimeStepper : public GlobalEngine {
 	size_t lastInteractionCount = 0;
@@ -306,12 +312,12 @@ public:
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
 		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have) that could start before the collider runs again (see skipUnreachable), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
-		((Real, safety, 0.8, , "Fraction of the critical step [-]"))
+		((Real, safety, flexa::kDefaultTimeStepSafety, , "Fraction of the critical step, in (0, 1]; yadeflex.engines() uses the same default [-]"))
 		((int, interval, 50, , "Recompute every this many steps [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]"))
 		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]"))
-		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact, as before 2026-11-22."))
-		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; measured 2026-11-23 on the damping module: see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
+		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact (for comparisons)."))
+		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
 		((bool, prefetch, true, , "Ask for the interactions' data a few iterations ahead in the loop over interactions (same results; False: for comparisons)"))
 		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]")),
 		,
@@ -347,7 +353,7 @@ public:
 		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator also books |v||F| c dt on blocked, driven DOFs, where no damping acts; on its fallback to NewtonIntegrator's loop this class takes that share back), clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
 		((bool, prefetch, true, , "On the fast path, ask for the bodies' data a few bodies ahead, when at least 512 bodies move (fewer stay in cache between steps); same results; False: for comparisons"))
-		((int, parallelMin, 4000, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))
+		((int, parallelMin, flexa::tuning::kIntegratorParallelMin, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))
 	);
 	// clang-format on
 };

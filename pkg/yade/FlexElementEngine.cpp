@@ -1,6 +1,9 @@
 // yade-flex adapter: FlexElementEngine, the internal forces of all bonds and membranes
 // (GPL-2.0-or-later). Declaration: Flex.hpp.
-#include "FlexCommon.hpp"
+#include "FlexElements.hpp"
+#include "FlexLaws.hpp"
+#include "FlexProtocol.hpp"
+#include "FlexTuning.hpp"
 #include "FlexSceneCheck.hpp"
 #include "FlexWire.hpp"
 
@@ -106,9 +109,9 @@ void FlexElementEngine::action()
 #pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic)
 #endif
 	for (long k = 0; k < n; ++k) {
-		if (ahead && k + 4 < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
+		if (ahead && k + flexa::tuning::kAheadElements < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
 			                           // serial only: in the parallel loop another thread may be rewriting it)
-			const Link& A = links[k + 4];
+			const Link& A = links[k + flexa::tuning::kAheadElements];
 			flexa::prefetch(A.c, sizeof(FlexCylinder));
 			if (A.si) flexa::prefetch(&A.si->pos, sizeof(Vector3r));
 			if (A.sj) flexa::prefetch(&A.sj->pos, sizeof(Vector3r));

@@ -1,5 +1,6 @@
 #pragma once
-// yade-flex adapter: per-thread sums of forces for loops on several threads (GPL-2.0-or-later).
+// yade-flex adapter: what the engines add to the scene, forces (with per-thread sums for loops
+// on several threads) and energies (GPL-2.0-or-later).
 #include "FlexPch.hpp"
 
 #include <vector>
@@ -11,7 +12,7 @@ namespace flexa {
 	/// ForceContainer::addForce and addTorque write, at every call, two fields every thread
 	/// writes: the container's `synced` flag and its table of per-thread largest ids (the
 	/// threads' entries 4 bytes apart). Two threads adding forces at once then take turns at
-	/// those cache lines, and on the 2-vCPU VM of 2026-12-02 FlexInteractionLoop took longer
+	/// those cache lines, and on a 2-vCPU VM FlexInteractionLoop took longer
 	/// on two threads than on one (bench/README.md, "Two threads"). A loop that uses these
 	/// sums points each of its threads at its own arrays (ForceSinkScope); the contact law adds
 	/// there (flexa::addForce / addTorque) and the loop adds the sums to the container once per
@@ -65,6 +66,14 @@ namespace flexa {
 	/// (addForceUnsynced), and zeroes them. A later addForce marks the container unsynced again
 	/// and the next sync adds on top (ForceContainer::sync accumulates). Defined in FlexLoop.cpp.
 	void mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads);
+
+	/// scene->energy->add without building a std::string from the name at every call (the hot
+	/// path, once the term has its index), called per contact, element and body.
+	inline void addEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)
+	{
+		if (ix >= 0) scene->energy->energies.add(ix, val);
+		else scene->energy->add(val, name, ix, reset);
+	}
 
 } // namespace flexa
 } // namespace yade

@@ -1,6 +1,11 @@
 // yade-flex adapter: contact geometry and contact law (GPL-2.0-or-later).
 // The numerics are in pkg/kernel; this file unpacks YADE state, calls them, writes back.
-#include "FlexCommon.hpp"
+#include "FlexContactSide.hpp"
+#include "FlexOwnership.hpp"
+#include "FlexProtocol.hpp"
+#include <kernel/ClosestPoints.hpp>
+#include <kernel/Contact.hpp>
+#include <kernel/Triangle.hpp>
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -50,103 +55,6 @@ namespace {
 	}
 }
 
-bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
-{
-	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
-	const Real          R   = static_cast<const Sphere&>(*cm1).radius;
-	const FlexCylinder& cyl = static_cast<const FlexCylinder&>(*cm2);
-	const State *       sa = flexa::stateOf(scene, cyl.node1), *sb = flexa::stateOf(scene, cyl.node2);
-	const bool          isNew = !I->geom;
-	if (!sa || !sb) {
-		if (isNew) return false;
-		static_cast<FlexContactGeom&>(*I->geom).active = false;
-		return true;
-	}
-	const Vector3r           P = st1.pos, xa = sa->pos + shift2, xb = sb->pos + shift2;
-	const flex::PointSegment ps      = flex::closestPointOnSegment(P, xa, xb);
-	const Real               overlap = R + cyl.radius - (P - ps.point).norm();
-	if (isNew && overlap <= 0 && !force) return false;
-	Body::id_t beaten[8];
-	int        nb  = 0;
-	// `overlap` is bit-identical to what a neighbour's test computes for this element (same
-	// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
-	const flexa::Element self = flexa::elementOf(&cyl);
-	const bool own = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb);
-	if (isNew && !own) return false;
-	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	g.normal           = flex::contactNormal(P, ps.point, Vector3r::Zero(), xb - xa, isNew ? Vector3r::Zero() : g.normal);
-	g.penetrationDepth = overlap;
-	g.refR1            = R;
-	g.refR2            = cyl.radius;
-	g.contactPoint     = P + (R - 0.5 * overlap) * g.normal;
-	g.nodes1           = Vector2i(-1, -1);
-	g.nodes2           = Vector2i(cyl.node1, cyl.node2);
-	g.u1               = 0;
-	g.u2               = ps.u;
-	g.axis1            = P;
-	g.axis2            = ps.point;
-	const Vector3r v1  = st1.vel + st1.angVel.cross(g.contactPoint - P);
-	const Vector3r v2  = flex::segmentPointVelocity(ps.u, ps.point, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
-	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I.get(), I->getId1(), beaten, nb);
-	return true;
-}
-
-bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
-{
-	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
-	const FlexCylinder& c1 = static_cast<const FlexCylinder&>(*cm1);
-	const FlexCylinder& c2 = static_cast<const FlexCylinder&>(*cm2);
-	if (flexa::shareNode(c1, c2)) {
-		// bonded neighbours: switch the pair off now (InteractionLoop skips it at the cost of a
-		// flag test) and have FlexElementEngine erase it after the loop (no cost at all)
-		I->functorCache.geomExists = false;
-		flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
-		return false;
-	}
-	const State *a0 = flexa::stateOf(scene, c1.node1), *a1 = flexa::stateOf(scene, c1.node2);
-	const State *b0 = flexa::stateOf(scene, c2.node1), *b1 = flexa::stateOf(scene, c2.node2);
-	const bool   isNew = !I->geom;
-	if (!a0 || !a1 || !b0 || !b1) {
-		if (isNew) return false;
-		static_cast<FlexContactGeom&>(*I->geom).active = false;
-		return true;
-	}
-	const Vector3r xb0 = b0->pos + shift2, xb1 = b1->pos + shift2;
-	// potential pair: a cheap conservative box test first (most pairs of a mesh are apart)
-	if (isNew && !force && flex::segmentsApart(a0->pos, a1->pos, xb0, xb1, c1.radius + c2.radius)) return false;
-	const flex::SegmentSegment ss      = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
-	const Real                 overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
-	if (isNew && overlap <= 0 && !force) return false;
-	// one decision per cluster of element pairs (flexa::ownsPair)
-	std::pair<Body::id_t, Body::id_t> beaten[8];
-	int                               nPairs = 0;
-	const bool own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), flexa::elementOf(&c1), I->getId2(), flexa::elementOf(&c2), beaten, nPairs);
-	if (isNew && !own) return false;
-	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	g.normal           = flex::contactNormal(ss.p1, ss.p2, a1->pos - a0->pos, xb1 - xb0, isNew ? Vector3r::Zero() : g.normal);
-	g.penetrationDepth = overlap;
-	g.refR1            = c1.radius;
-	g.refR2            = c2.radius;
-	g.contactPoint     = ss.p1 + (c1.radius - 0.5 * overlap) * g.normal;
-	g.nodes1           = Vector2i(c1.node1, c1.node2);
-	g.nodes2           = Vector2i(c2.node1, c2.node2);
-	g.u1               = ss.s;
-	g.u2               = ss.t;
-	g.axis1            = ss.p1;
-	g.axis2            = ss.p2;
-	const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
-	const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
-	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I.get(), -1, nullptr, 0, beaten, nPairs);
-	return true;
-}
-
-
 namespace {
 	// Facet side of a contact: node states and current positions, or false if a node is gone.
 	struct FacetNodes {
@@ -186,101 +94,276 @@ namespace {
 	}
 }
 
+namespace {
+	// The steps every element Ig2 takes, in this order (the pair types below supply each step):
+	//  1. a potential pair marked unreachable by the time stepper: nothing (FlexProtocol.hpp);
+	//  2. bonded neighbours (elements sharing a node): switched off and reported for erasure;
+	//  3. the nodes' states: a node gone ends a new pair, or makes an existing contact inactive;
+	//  4. a new pair: a cheap conservative separation test, then the closest points and the
+	//     overlap (with the same arithmetic as the ownership search's probes);
+	//  5. ownership of the contact among the elements or element pairs of its cluster
+	//     (kernel/Ownership.hpp): a new pair that does not own it is not created;
+	//  6. the geometry: normal, depth, contact point, both sides, relative velocity;
+	//  7. activity bookkeeping and the shear hand-over (finishGeom).
+	template <class Pair> bool elementGeom(Scene* scene, const shared_ptr<Interaction>& I, bool force, Pair& p)
+	{
+		if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
+		if (p.bonded()) {
+			// bonded neighbours: switch the pair off now (InteractionLoop skips it at the cost of a
+			// flag test) and have FlexElementEngine erase it after the loop (no cost at all)
+			I->functorCache.geomExists = false;
+			flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
+			return false;
+		}
+		const bool isNew = !I->geom;
+		if (!p.load()) {
+			if (isNew) return false;
+			static_cast<FlexContactGeom&>(*I->geom).active = false;
+			return true;
+		}
+		if (isNew && !force && p.apart()) return false;
+		const Real overlap = p.closest();
+		if (isNew && overlap <= 0 && !force) return false;
+		const bool own = overlap > 0 && p.owns(overlap);
+		if (isNew && !own) return false;
+		if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+		FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+		p.fill(g, isNew);
+		p.finish(g, own);
+		return true;
+	}
+
+	// A sphere (side 1) and an element (side 2): ownership among the elements the sphere touches.
+	struct SphereSide {
+		Scene*            scene;
+		const Interaction& I;
+		const State&      st1;
+		Real              R;
+		Vector3r          P;
+		Body::id_t        beaten[8];
+		int               nb = 0;
+		bool              bonded() const { return false; }
+		bool              apart() const { return false; }
+		void              finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, I.getId1(), beaten, nb); }
+		Vector3r          velocityAt(const Vector3r& c) const { return st1.vel + st1.angVel.cross(c - P); }
+	};
+	// Two elements: one decision per cluster of element pairs.
+	struct ElementPair {
+		Scene*                            scene;
+		const Interaction&                I;
+		std::pair<Body::id_t, Body::id_t> beaten[8];
+		int                               nPairs = 0;
+		void finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
+		bool ownsPair(const flexa::Element& A, const flexa::Element& B)
+		{
+			return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs);
+		}
+	};
+
+	struct SphereCylinder : SphereSide {
+		const FlexCylinder& cyl;
+		const Vector3r&     shift2;
+		const State *       sa = nullptr, *sb = nullptr;
+		Vector3r            xa, xb;
+		flex::PointSegment  ps;
+		bool                load()
+		{
+			sa = flexa::stateOf(scene, cyl.node1);
+			sb = flexa::stateOf(scene, cyl.node2);
+			if (!sa || !sb) return false;
+			xa = sa->pos + shift2;
+			xb = sb->pos + shift2;
+			return true;
+		}
+		Real closest()
+		{
+			ps = flex::closestPointOnSegment(P, xa, xb);
+			return R + cyl.radius - (P - ps.point).norm();
+		}
+		// `overlap` is bit-identical to what a neighbour's test computes for this element (same
+		// closest-point call on the same node positions: shift2 is zero, periodic cells are refused)
+		bool owns(Real overlap)
+		{
+			const flexa::Element self = flexa::elementOf(&cyl);
+			return flexa::owns(scene, self, I.getId2(), P, R, flexa::segmentHit(self, ps, overlap), beaten, nb);
+		}
+		void fill(FlexContactGeom& g, bool isNew)
+		{
+			const Real overlap = R + cyl.radius - (P - ps.point).norm();
+			g.normal           = flex::contactNormal(P, ps.point, Vector3r::Zero(), xb - xa, isNew ? Vector3r::Zero() : g.normal);
+			g.penetrationDepth = overlap;
+			g.refR1            = R;
+			g.refR2            = cyl.radius;
+			g.contactPoint     = P + (R - 0.5 * overlap) * g.normal;
+			g.nodes1           = Vector2i(-1, -1);
+			g.nodes2           = Vector2i(cyl.node1, cyl.node2);
+			g.u1               = 0;
+			g.u2               = ps.u;
+			g.axis1            = P;
+			g.axis2            = ps.point;
+			const Vector3r v1  = velocityAt(g.contactPoint);
+			const Vector3r v2  = flex::segmentPointVelocity(ps.u, ps.point, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
+			g.relVel           = v2 - v1;
+		}
+	};
+
+	struct CylinderCylinder : ElementPair {
+		const FlexCylinder &c1, &c2;
+		const Vector3r&     shift2;
+		const State *       a0 = nullptr, *a1 = nullptr, *b0 = nullptr, *b1 = nullptr;
+		Vector3r            xb0, xb1;
+		flex::SegmentSegment ss;
+		bool                bonded() const { return flexa::shareNode(c1, c2); }
+		bool                load()
+		{
+			a0 = flexa::stateOf(scene, c1.node1);
+			a1 = flexa::stateOf(scene, c1.node2);
+			b0 = flexa::stateOf(scene, c2.node1);
+			b1 = flexa::stateOf(scene, c2.node2);
+			if (!a0 || !a1 || !b0 || !b1) return false;
+			xb0 = b0->pos + shift2;
+			xb1 = b1->pos + shift2;
+			return true;
+		}
+		// (most pairs of a mesh are apart)
+		bool apart() const { return flex::segmentsApart(a0->pos, a1->pos, xb0, xb1, c1.radius + c2.radius); }
+		Real closest()
+		{
+			ss = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
+			return c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
+		}
+		bool owns(Real) { return ownsPair(flexa::elementOf(&c1), flexa::elementOf(&c2)); }
+		void fill(FlexContactGeom& g, bool isNew)
+		{
+			const Real overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
+			g.normal           = flex::contactNormal(ss.p1, ss.p2, a1->pos - a0->pos, xb1 - xb0, isNew ? Vector3r::Zero() : g.normal);
+			g.penetrationDepth = overlap;
+			g.refR1            = c1.radius;
+			g.refR2            = c2.radius;
+			g.contactPoint     = ss.p1 + (c1.radius - 0.5 * overlap) * g.normal;
+			g.nodes1           = Vector2i(c1.node1, c1.node2);
+			g.nodes2           = Vector2i(c2.node1, c2.node2);
+			g.u1               = ss.s;
+			g.u2               = ss.t;
+			g.axis1            = ss.p1;
+			g.axis2            = ss.p2;
+			const Vector3r v1  = flex::segmentPointVelocity(ss.s, ss.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
+			const Vector3r v2  = flex::segmentPointVelocity(ss.t, ss.p2, g.contactPoint, b0->vel, b0->angVel, b1->vel, b1->angVel);
+			g.relVel           = v2 - v1;
+		}
+	};
+
+	struct SphereFacet : SphereSide {
+		const FlexFacet&    fa;
+		const Vector3r&     shift2;
+		FacetNodes          fn;
+		flex::PointTriangle pt;
+		bool                load() { return fn.load(scene, fa, shift2); }
+		Real                closest()
+		{
+			pt = flex::closestPointOnTriangle(P, fn.x[0], fn.x[1], fn.x[2]);
+			return R + fa.radius - (P - pt.point).norm(); // for ownership (probe arithmetic)
+		}
+		bool owns(Real overlap)
+		{
+			const flexa::Element self = flexa::elementOf(&fa);
+			return flexa::owns(scene, self, I.getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb);
+		}
+		void fill(FlexContactGeom& g, bool isNew)
+		{
+			Real dist;
+			g.normal           = facetNormal(fn, pt, P, P, isNew, g.normal, dist);
+			g.penetrationDepth = R + fa.radius - dist;
+			g.refR1            = R;
+			g.refR2            = fa.radius;
+			g.contactPoint     = P + (R - 0.5 * g.penetrationDepth) * g.normal;
+			g.nodes1 = g.nodes2 = Vector2i(-1, -1);
+			g.tri1              = Vector3i(-1, -1, -1);
+			g.tri2              = Vector3i(fa.node1, fa.node2, fa.node3);
+			g.bary2             = Vector3r(pt.w[0], pt.w[1], pt.w[2]);
+			g.axis1             = P;
+			g.axis2             = pt.point;
+			const Vector3r v1   = velocityAt(g.contactPoint);
+			const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, flex::cappedFacetOffset(fn.x, g.contactPoint - pt.point));
+			g.relVel            = v2 - v1;
+		}
+	};
+
+	struct CylinderFacet : ElementPair {
+		const FlexCylinder&   c;
+		const FlexFacet&      fa;
+		const Vector3r&       shift2;
+		const flexa::Element  ec, ef;
+		const State *         a0 = nullptr, *a1 = nullptr;
+		FacetNodes            fn;
+		flex::SegmentTriangle st;
+		bool                  bonded() const { return flexa::shareNode(ec, ef); }
+		bool                  load()
+		{
+			a0 = flexa::stateOf(scene, c.node1);
+			a1 = flexa::stateOf(scene, c.node2);
+			return a0 && a1 && fn.load(scene, fa, shift2);
+		}
+		// box and plane tests (a mesh wire outside a lining)
+		bool apart() const { return flex::segmentTriangleApart(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2], c.radius + fa.radius); }
+		Real closest()
+		{
+			st = flex::closestPointsSegmentTriangle(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2]);
+			return c.radius + fa.radius - (st.p1 - st.t.point).norm();
+		}
+		// (it also settles a facet piercing a wire at a mesh node, where every wire of the node overlaps it)
+		bool owns(Real) { return ownsPair(ec, ef); }
+		void fill(FlexContactGeom& g, bool isNew)
+		{
+			Real dist;
+			g.normal           = facetNormal(fn, st.t, st.p1, 0.5 * (a0->pos + a1->pos), isNew, g.normal, dist);
+			g.penetrationDepth = c.radius + fa.radius - dist;
+			g.refR1            = c.radius;
+			g.refR2            = fa.radius;
+			g.contactPoint     = st.p1 + (c.radius - 0.5 * g.penetrationDepth) * g.normal;
+			g.nodes1           = Vector2i(c.node1, c.node2);
+			g.nodes2           = Vector2i(-1, -1);
+			g.tri1             = Vector3i(-1, -1, -1);
+			g.tri2             = Vector3i(fa.node1, fa.node2, fa.node3);
+			g.u1               = st.s;
+			g.bary2            = Vector3r(st.t.w[0], st.t.w[1], st.t.w[2]);
+			g.axis1            = st.p1;
+			g.axis2            = st.t.point;
+			const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
+			const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
+			g.relVel           = v2 - v1;
+		}
+	};
+} // namespace
+
+bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	SphereCylinder p { { scene, *I, st1, static_cast<const Sphere&>(*cm1).radius, st1.pos }, static_cast<const FlexCylinder&>(*cm2), shift2 };
+	return elementGeom(scene, I, force, p);
+}
+
+bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
+        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	CylinderCylinder p { { scene, *I }, static_cast<const FlexCylinder&>(*cm1), static_cast<const FlexCylinder&>(*cm2), shift2 };
+	return elementGeom(scene, I, force, p);
+}
+
 bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
-	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
-	const Real       R  = static_cast<const Sphere&>(*cm1).radius;
-	const FlexFacet& fa = static_cast<const FlexFacet&>(*cm2);
-	const bool       isNew = !I->geom;
-	FacetNodes       fn;
-	if (!fn.load(scene, fa, shift2)) {
-		if (isNew) return false;
-		static_cast<FlexContactGeom&>(*I->geom).active = false;
-		return true;
-	}
-	const Vector3r            P       = st1.pos;
-	const flex::PointTriangle pt      = flex::closestPointOnTriangle(P, fn.x[0], fn.x[1], fn.x[2]);
-	const Real                overlap = R + fa.radius - (P - pt.point).norm(); // for ownership (probe arithmetic)
-	if (isNew && overlap <= 0 && !force) return false;
-	Body::id_t           beaten[8];
-	int                  nb   = 0;
-	const flexa::Element self = flexa::elementOf(&fa);
-	const bool           own  = overlap > 0 && flexa::owns(scene, self, I->getId2(), P, R, flexa::triangleHit(self, pt, overlap), beaten, nb);
-	if (isNew && !own) return false;
-	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	Real             dist;
-	g.normal           = facetNormal(fn, pt, P, P, isNew, g.normal, dist);
-	g.penetrationDepth = R + fa.radius - dist;
-	g.refR1            = R;
-	g.refR2            = fa.radius;
-	g.contactPoint     = P + (R - 0.5 * g.penetrationDepth) * g.normal;
-	g.nodes1 = g.nodes2 = Vector2i(-1, -1);
-	g.tri1              = Vector3i(-1, -1, -1);
-	g.tri2              = Vector3i(fa.node1, fa.node2, fa.node3);
-	g.bary2             = Vector3r(pt.w[0], pt.w[1], pt.w[2]);
-	g.axis1             = P;
-	g.axis2             = pt.point;
-	const Vector3r v1   = st1.vel + st1.angVel.cross(g.contactPoint - P);
-	const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, pt.w, flex::cappedFacetOffset(fn.x, g.contactPoint - pt.point));
-	g.relVel            = v2 - v1;
-	finishGeom(scene, g, own, I.get(), I->getId1(), beaten, nb);
-	return true;
+	SphereFacet p { { scene, *I, st1, static_cast<const Sphere&>(*cm1).radius, st1.pos }, static_cast<const FlexFacet&>(*cm2), shift2 };
+	return elementGeom(scene, I, force, p);
 }
 
 bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
         const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
-	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
-	const FlexCylinder&  c  = static_cast<const FlexCylinder&>(*cm1);
-	const FlexFacet&     fa = static_cast<const FlexFacet&>(*cm2);
-	const flexa::Element ec = flexa::elementOf(&c), ef = flexa::elementOf(&fa);
-	if (flexa::shareNode(ec, ef)) {
-		I->functorCache.geomExists = false;
-		flexa::reportNeighbourPair(scene, I->getId1(), I->getId2());
-		return false;
-	}
-	const bool   isNew = !I->geom;
-	const State *a0 = flexa::stateOf(scene, c.node1), *a1 = flexa::stateOf(scene, c.node2);
-	FacetNodes   fn;
-	if (!a0 || !a1 || !fn.load(scene, fa, shift2)) {
-		if (isNew) return false;
-		static_cast<FlexContactGeom&>(*I->geom).active = false;
-		return true;
-	}
-	// potential pair: cheap conservative box and plane tests first (a mesh wire outside a lining)
-	if (isNew && !force && flex::segmentTriangleApart(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2], c.radius + fa.radius)) return false;
-	const flex::SegmentTriangle st      = flex::closestPointsSegmentTriangle(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2]);
-	const Real                  overlap = c.radius + fa.radius - (st.p1 - st.t.point).norm();
-	if (isNew && overlap <= 0 && !force) return false;
-	// one decision per cluster of element pairs (flexa::ownsPair; it also settles a facet
-	// piercing a wire at a mesh node, where every wire of the node overlaps it)
-	std::pair<Body::id_t, Body::id_t> beaten[8];
-	int                               nPairs = 0;
-	const bool                        own = overlap > 0 && flexa::ownsPair(scene, I->getId1(), ec, I->getId2(), ef, beaten, nPairs);
-	if (isNew && !own) return false;
-	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	Real             dist;
-	g.normal           = facetNormal(fn, st.t, st.p1, 0.5 * (a0->pos + a1->pos), isNew, g.normal, dist);
-	g.penetrationDepth = c.radius + fa.radius - dist;
-	g.refR1            = c.radius;
-	g.refR2            = fa.radius;
-	g.contactPoint     = st.p1 + (c.radius - 0.5 * g.penetrationDepth) * g.normal;
-	g.nodes1           = Vector2i(c.node1, c.node2);
-	g.nodes2           = Vector2i(-1, -1);
-	g.tri1             = Vector3i(-1, -1, -1);
-	g.tri2             = Vector3i(fa.node1, fa.node2, fa.node3);
-	g.u1               = st.s;
-	g.bary2            = Vector3r(st.t.w[0], st.t.w[1], st.t.w[2]);
-	g.axis1            = st.p1;
-	g.axis2            = st.t.point;
-	const Vector3r v1  = flex::segmentPointVelocity(st.s, st.p1, g.contactPoint, a0->vel, a0->angVel, a1->vel, a1->angVel);
-	const Vector3r v2  = flex::trianglePointVelocity(fn.x, fn.v, st.t.w, flex::cappedFacetOffset(fn.x, g.contactPoint - st.t.point));
-	g.relVel           = v2 - v1;
-	finishGeom(scene, g, own, I.get(), -1, nullptr, 0, beaten, nPairs);
-	return true;
+	const FlexCylinder& c  = static_cast<const FlexCylinder&>(*cm1);
+	const FlexFacet&    fa = static_cast<const FlexFacet&>(*cm2);
+	CylinderFacet       p { { scene, *I }, c, fa, shift2, flexa::elementOf(&c), flexa::elementOf(&fa) };
+	return elementGeom(scene, I, force, p);
 }
 
 bool Ig2_FlexFacet_FlexFacet_FlexContactGeom::go(
@@ -326,37 +409,6 @@ void Ig2_Sphere_Sphere_FlexContactGeom::update(Scene* scene, FlexContactGeom& g,
 	finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
 }
 
-namespace {
-	// Put force F (acting at c) on one side: a rigid body, or the two nodes of a segment.
-	void applySide(Scene* scene, const flexa::ForceSink* sink, Body::id_t body, const Vector2i& nodes, const Vector3i& tri, Real u, const Vector3r& bary, const Vector3r& axisPoint, const Vector3r& c, const Vector3r& F)
-	{
-		if (tri[0] >= 0) { // facet: forces only, by the adjoint of the facet point velocity
-			Vector3r x[3], f[3];
-			for (int k = 0; k < 3; ++k) {
-				const State* s = flexa::stateOf(scene, tri[k]);
-				if (!s) return;
-				x[k] = s->pos;
-			}
-			const double w[3] = { bary[0], bary[1], bary[2] };
-			flex::distributeToTriangle(x, w, flex::cappedFacetOffset(x, c - axisPoint), F, f);
-			for (int k = 0; k < 3; ++k)
-				flexa::addForce(scene, sink, tri[k], f[k]);
-			return;
-		}
-		if (nodes[0] < 0) {
-			flexa::addForce(scene, sink, body, F);
-			flexa::addTorque(scene, sink, body, (c - axisPoint).cross(F));
-			return;
-		}
-		flex::NodeLoad A, B;
-		flex::distributeToSegment(u, axisPoint, c, F, A, B);
-		flexa::addForce(scene, sink, nodes[0], A.F);
-		flexa::addTorque(scene, sink, nodes[0], A.M);
-		flexa::addForce(scene, sink, nodes[1], B.F);
-		flexa::addTorque(scene, sink, nodes[1], B.M);
-	}
-}
-
 bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
 {
 	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I, nullptr, nullptr);
@@ -397,8 +449,8 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	p.shearForce                     = r.shearForce;
 	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
 	const flexa::ForceSink* sink = flexa::currentSink(); // (set by FlexInteractionLoop on several threads)
-	applySide(scene, sink, I->getId1(), g.nodes1, g.tri1, g.u1, g.bary1, g.axis1, g.contactPoint, -F);
-	applySide(scene, sink, I->getId2(), g.nodes2, g.tri2, g.u2, g.bary2, g.axis2, g.contactPoint, F);
+	flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -F);
+	flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, F);
 	Real rollEnergy = 0;
 	const Real kr = rollingK(g, p);
 	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)

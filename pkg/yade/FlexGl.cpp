@@ -1,7 +1,7 @@
 // yade-flex adapter: Gl1 functors, drawing nodes, cylinders and facets in YADE's 3D view
 // (GPL-2.0-or-later). See FlexGl.hpp.
 #include "FlexGl.hpp"
-#include "FlexCommon.hpp"
+#include "FlexElements.hpp"
 
 #include <GL/gl.h>
 #include <GL/glu.h>

@@ -1,6 +1,6 @@
 // yade-flex adapter: FlexGuard (GPL-2.0-or-later). Definitions: FlexGuard.hpp.
 #include "FlexGuard.hpp"
-#include "FlexCommon.hpp"
+#include "FlexFacet.hpp"
 
 #include <core/EnergyTracker.hpp>
 #include <lib/factory/ClassFactory.hpp>

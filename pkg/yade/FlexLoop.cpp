@@ -1,6 +1,7 @@
 // yade-flex adapter: FlexInteractionLoop (GPL-2.0-or-later). Why and what: FlexLoop.hpp.
 #include "FlexLoop.hpp"
-#include "FlexCommon.hpp"
+#include "FlexProtocol.hpp"
+#include "FlexTuning.hpp"
 #include "FlexSceneCheck.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
@@ -26,11 +27,7 @@ namespace yade {
 YADE_PLUGIN((FlexInteractionLoop));
 
 namespace {
-	// Prefetch distances [iterations]. Work per pair ~20 ns (potential) to ~150 ns (real
-	// contact), a miss to DRAM ~100 ns: the interaction objects are asked for 12 ahead (pass 1,
-	// which only reads them), what they point to 6 live interactions ahead, what that points to
-	// 3 ahead (pass 2).
-	constexpr long kMaxBlock = 4096; // largest blockSize
+	using flexa::tuning::kMaxBlock;
 
 	struct Bodies {
 		const shared_ptr<Body>* p;
@@ -100,14 +97,15 @@ namespace {
 	// (nothing for a pair that was not real).
 	struct Marked {
 		bool                                     valid = false;
-		const std::vector<const IGeomFunctor*>*  readers; // flexa::readsUnreachableMarks, of this loop's functors
+		const std::vector<const IGeomFunctor*>*  readers = nullptr; // flexa::readsUnreachableMarks, of this loop's functors
 		const std::pair<Body::id_t, Body::id_t>* pairs  = nullptr; // the marks, by Interaction::linIx
 		size_t                                   nPairs = 0;
+		Marked() = default;
 		Marked(const Scene* scene, const std::vector<const IGeomFunctor*>* r)
 		        : readers(r)
 		{
 			const flexa::UnreachableMarks& m = flexa::unreachableMarks();
-			valid = scene->interactions->iterColliderLastRun == flexa::kMarksValid && m.scene == scene;
+			valid = m.valid(scene);
 			if (valid) {
 				pairs  = m.pair.data();
 				nPairs = m.pair.size();
@@ -221,120 +219,133 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
 	}
 }
 
-void FlexInteractionLoop::action()
-{
-	flexa::checkScene(scene);
-	InteractionContainer& ic = *scene->interactions;
-	// the collider asks for unseen potential interactions to go on this step (some colliders only)
-	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
-	if (!prefetch || removeUnseen || !callbacks.empty() || loopOnSortedInteractions || blockSize < 1 || blockSize > kMaxBlock || !(ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)) {
-		usedFastPath    = false;
-		usedThreadSums  = false;
-		quickRejected   = 0;
-		quickCandidates = 0;
-		fusedContacts   = 0;
-		recalledSkips   = 0;
-		lastCandidates  = -1;
-		lastFusable     = -1;
-		recScene        = nullptr; // (InteractionLoop may give any pair a geometry: the records start again)
-		InteractionLoop::action();
-		return;
-	}
-	usedFastPath         = true;
-	lawDispatcher->scene  = scene;
-	physDispatcher->scene = scene;
-	geomDispatcher->scene = scene;
-	geomDispatcher->updateScenePtr();
-	physDispatcher->updateScenePtr();
-	lawDispatcher->updateScenePtr();
+// One step of the prefetching loop: what its passes share, and the passes.
+class FlexInteractionLoop::Step {
+public:
+	// what the step reads
+	FlexInteractionLoop&           L;
+	Scene* const                   scene;
+	InteractionContainer&          ic;
+	const shared_ptr<Interaction>* intrs;
+	const long                     n;
+	const Bodies                   bodies;
+	const Matrix3r                 cellH;
+	const long                     block, nBlocks;
+	const long                     kFar, kMid, kNear;
+	const bool                     streamIn; // (the interaction objects asked for ahead)
+	int                            threads = 1;
+	// what the step decided before the loop
+	bool                                          sameFunctors = false;
+	Marked                                        marked;
+	Apart                                         apart;
+	Fusable                                       fusable;
+	Law2_FlexContactGeom_FrictPhys_CundallStrack* fusedLaw = nullptr;
+	const SpherePoint*                            pts      = nullptr;
+	const SphereMotion*                           mot      = nullptr;
+	Remembered*                                   rec      = nullptr;
+	unsigned                                      gen[3]   = { 0, 0, 0 }; // by kind
+	bool                                          weighted = false;
+	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
+	int                                           nSums = 0;
+	// the first exception of any thread; after it the threads stop calling functors
+	std::exception_ptr error;
+	std::mutex         errorMutex;
+	std::atomic<bool>  failed { false };
+	// what a thread counts (summed over the threads)
+	struct Counts {
+		long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+	};
 
-	const long n = (long)ic.size();
-	quickRejected   = 0;
-	quickCandidates = 0;
-	fusedContacts   = 0;
-	recalledSkips   = 0;
-	if (n == 0) {
-		lastCandidates = 0;
-		lastFusable    = 0;
-		usedThreadSums = false;
-		return;
-	}
-	const shared_ptr<Interaction>* intrs = &ic[0];
-	if (compactEvery > 0 && (scene->iter - lastCompact >= compactEvery || scene->iter < lastCompact)) {
-		compactedContacts = compactContacts(intrs, n);
-		lastCompact       = scene->iter;
-	}
-	const Bodies                   bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() };
-	const Matrix3r                 cellH = scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero());
-	const long                     block = blockSize, nBlocks = (n + block - 1) / block;
-	const long                     kFar = ahead[0], kMid = ahead[1], kNear = ahead[2];
-	const bool streamIn = n >= flexa::kPrefetchMin; // (the interaction objects asked for ahead)
-	// the functors that read the marks, found again only when the dispatcher's list changes
-	bool same = seenFunctors.size() == geomDispatcher->functors.size();
-	for (size_t k = 0; same && k < seenFunctors.size(); ++k) {
-		const IGeomFunctor* g = geomDispatcher->functors[k].get();
-		same = seenFunctors[k].first == g && g && seenFunctors[k].second == &typeid(*g);
-	}
-	if (!same) {
-		seenFunctors.clear();
-		markReaders.clear();
-		sphereReaders.clear();
-		for (const auto& f : geomDispatcher->functors) {
-			const IGeomFunctor* g = f.get();
-			seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
-			if (flexa::readsUnreachableMarks(g)) markReaders.push_back(g);
-			if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) sphereReaders.push_back(g);
-		}
-	}
-	const Marked marked(scene, &markReaders);
-	Fusable      fusable;
-	if (fuseSpheres && !sphereReaders.empty() && !scene->isPeriodic) {
-		for (const auto& f : physDispatcher->functors)
-			if (f && typeid(*f) == typeid(Ip2_FrictMat_FrictMat_FrictPhys)) {
-				fusable.phys = f.get();
-				break;
-			}
-		for (const auto& f : lawDispatcher->functors)
-			if (f && typeid(*f) == typeid(Law2_FlexContactGeom_FrictPhys_CundallStrack)) {
-				fusable.law = f.get();
-				break;
-			}
-		if (fusable.phys && fusable.law) fusable.geoms = &sphereReaders;
-	}
-	Law2_FlexContactGeom_FrictPhys_CundallStrack* const fusedLaw
-	        = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
+	explicit Step(FlexInteractionLoop& loop)
+	        : L(loop)
+	        , scene(loop.scene)
+	        , ic(*loop.scene->interactions)
+	        , intrs(&ic[0])
+	        , n((long)ic.size())
+	        , bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() }
+	        , cellH(scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero()))
+	        , block(loop.blockSize)
+	        , nBlocks((n + block - 1) / block)
+	        , kFar(loop.ahead[0])
+	        , kMid(loop.ahead[1])
+	        , kNear(loop.ahead[2])
+	        , streamIn(n >= flexa::kPrefetchMin)
+	{
 #ifdef YADE_OPENMP
-	const int threads = ompThreads > 0 ? std::min(ompThreads, omp_get_max_threads()) : omp_get_max_threads();
+		threads = L.ompThreads > 0 ? std::min(L.ompThreads, omp_get_max_threads()) : omp_get_max_threads();
 #endif
-	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres; the
-	// sphere functor throws in periodic scenes: not used there)
-	Apart apart;
-	if (quickReject && !sphereReaders.empty() && !scene->isPeriodic) apart.readers = &sphereReaders;
-	if ((apart.readers && lastCandidates != 0) || (fusable.geoms && lastFusable != 0)) {
-		spherePoints.resize(bodies.n);
-		sphereMotion.resize(bodies.n);
-		SpherePoint*  pts = spherePoints.data();
-		SphereMotion* mot = sphereMotion.data();
-		const long    nb  = bodies.n;
-		if (scene != sphereIdsScene || nb != sphereIdsBodies) { // the list of spheres, again
-			sphereIds.clear();
-			for (long id = 0; id < nb; ++id) {
-				pts[id].r     = -1;
-				const Body* b = bodies.p[id].get();
-				if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) sphereIds.push_back((Body::id_t)id);
+	}
+
+	// the functors that read the marks and the sphere functors, found again only when the
+	// dispatcher's list changes
+	void findReaders()
+	{
+		sameFunctors = L.seenFunctors.size() == L.geomDispatcher->functors.size();
+		for (size_t k = 0; sameFunctors && k < L.seenFunctors.size(); ++k) {
+			const IGeomFunctor* g = L.geomDispatcher->functors[k].get();
+			sameFunctors          = L.seenFunctors[k].first == g && g && L.seenFunctors[k].second == &typeid(*g);
+		}
+		if (!sameFunctors) {
+			L.seenFunctors.clear();
+			L.markReaders.clear();
+			L.sphereReaders.clear();
+			for (const auto& f : L.geomDispatcher->functors) {
+				const IGeomFunctor* g = f.get();
+				L.seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
+				if (flexa::readsUnreachableMarks(g)) L.markReaders.push_back(g);
+				if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) L.sphereReaders.push_back(g);
 			}
-			sphereIdsScene  = scene;
-			sphereIdsBodies = nb;
+		}
+		marked = Marked(scene, &L.markReaders);
+	}
+
+	// the functors of the fused sphere-sphere path (fuseSpheres), and quickReject's readers
+	void chooseShortcuts()
+	{
+		if (L.fuseSpheres && !L.sphereReaders.empty() && !scene->isPeriodic) {
+			for (const auto& f : L.physDispatcher->functors)
+				if (f && typeid(*f) == typeid(Ip2_FrictMat_FrictMat_FrictPhys)) {
+					fusable.phys = f.get();
+					break;
+				}
+			for (const auto& f : L.lawDispatcher->functors)
+				if (f && typeid(*f) == typeid(Law2_FlexContactGeom_FrictPhys_CundallStrack)) {
+					fusable.law = f.get();
+					break;
+				}
+			if (fusable.phys && fusable.law) fusable.geoms = &L.sphereReaders;
+		}
+		fusedLaw = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
+		// (the sphere functor throws in periodic scenes: not used there)
+		if (L.quickReject && !L.sphereReaders.empty() && !scene->isPeriodic) apart.readers = &L.sphereReaders;
+	}
+
+	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres)
+	void makeSphereTable()
+	{
+		if (!((apart.readers && L.lastCandidates != 0) || (fusable.geoms && L.lastFusable != 0))) return;
+		L.spherePoints.resize(bodies.n);
+		L.sphereMotion.resize(bodies.n);
+		SpherePoint*  p  = L.spherePoints.data();
+		SphereMotion* mv = L.sphereMotion.data();
+		const long    nb = bodies.n;
+		if (scene != L.sphereIdsScene || nb != L.sphereIdsBodies) { // the list of spheres, again
+			L.sphereIds.clear();
+			for (long id = 0; id < nb; ++id) {
+				p[id].r       = -1;
+				const Body* b = bodies.p[id].get();
+				if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) L.sphereIds.push_back((Body::id_t)id);
+			}
+			L.sphereIdsScene  = scene;
+			L.sphereIdsBodies = nb;
 		}
 		// the listed bodies (each still checked: erased, or its shape replaced: r = -1)
-		const Body::id_t* ids = sphereIds.data();
-		const long        ns  = (long)sphereIds.size();
+		const Body::id_t* ids = L.sphereIds.data();
+		const long        ns  = (long)L.sphereIds.size();
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= 8192)
+#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= flexa::tuning::kSphereTableParallelMin)
 #endif
 		for (long k = 0; k < ns; ++k) {
-			// (the body 16 ahead, what the one 8 ahead points to; 32 and 16 left the same share of
-			// perf's samples on the first load from a body, 2026-12-03)
 			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
 				if (const State* st = c.state.get()) {
 					flexa::prefetch(&st->pos, sizeof(Vector3r));
@@ -344,160 +355,168 @@ void FlexInteractionLoop::action()
 				flexa::prefetch(c.shape.get(), sizeof(Sphere));
 			});
 			const Body::id_t id = ids[k];
-			SpherePoint&     q  = pts[id];
+			SpherePoint&     q  = p[id];
 			q.r                 = -1;
 			const Body* b       = bodies.p[id].get();
 			if (!b) continue;
 			const Shape* sh = b->shape.get();
 			const State* st = b->state.get();
 			if (!sh || !st || typeid(*sh) != typeid(Sphere)) continue;
-			q.x = st->pos[0];
-			q.y = st->pos[1];
-			q.z = st->pos[2];
-			q.r = static_cast<const Sphere*>(sh)->radius;
-			mot[id].vel    = st->vel;
-			mot[id].angVel = st->angVel;
+			q.x           = st->pos[0];
+			q.y           = st->pos[1];
+			q.z           = st->pos[2];
+			q.r           = static_cast<const Sphere*>(sh)->radius;
+			mv[id].vel    = st->vel;
+			mv[id].angVel = st->angVel;
 		}
 		if (apart.readers) {
-			apart.p = pts;
+			apart.p = p;
 			apart.n = nb;
 		}
 		if (fusable.geoms) {
-			fusable.p = pts;
+			fusable.p = p;
 			fusable.n = nb;
 		}
+		pts = fusable.p;
+		mot = fusable.p ? L.sphereMotion.data() : nullptr;
 	}
-	const SpherePoint*  pts = fusable.p;
-	const SphereMotion* mot = fusable.p ? sphereMotion.data() : nullptr;
-	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
 
 	// rememberSkips: a new generation of records whenever what they were judged against changes.
 	// A sphere pair apart (kind 2) depends only on its interaction object (no contact, the sphere
 	// functor cached; the table is asked again each step), so its records last until the functors,
 	// quickReject, the scene or the container change; a marked pair (kind 1) also on the marks, so
 	// its records also end when the marks are made again or retired, or a collider runs.
-	Remembered* rec = nullptr;
-	if (rememberSkips) {
-		const unsigned long marksGen  = marked.valid ? flexa::unreachableMarks().generation : 0;
-		const bool          quick     = apart.readers != nullptr;
-		const bool          newQuick  = !same || scene != recScene || &ic != recContainer || quick != recQuick;
-		const bool          newMarked = newQuick || marked.valid != recMarksValid || marksGen != recMarks || ic.iterColliderLastRun != recColliderRun;
-		if (newQuick && (scene != recScene || &ic != recContainer)) held.clear(); // (let the old scene's objects go)
-		if (newMarked) {
-			const bool wrap = recGen > std::numeric_limits<unsigned>::max() - 2;
-			if (wrap) { // (no old record may match by chance)
-				remembered.assign(remembered.size(), Remembered());
-				recGen = 0;
+	void startRecords()
+	{
+		if (L.rememberSkips) {
+			const unsigned long marksGen  = marked.valid ? flexa::unreachableMarks().generation : 0;
+			const bool          quick     = apart.readers != nullptr;
+			const bool          newQuick  = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
+			const bool          newMarked = newQuick || marked.valid != L.recMarksValid || marksGen != L.recMarks || ic.iterColliderLastRun != L.recColliderRun;
+			if (newQuick && (scene != L.recScene || &ic != L.recContainer)) L.held.clear(); // (let the old scene's objects go)
+			if (newMarked) {
+				const bool wrap = L.recGen > std::numeric_limits<unsigned>::max() - 2;
+				if (wrap) { // (no old record may match by chance)
+					L.remembered.assign(L.remembered.size(), Remembered());
+					L.recGen = 0;
+				}
+				L.genMarked = ++L.recGen;
+				if (newQuick || wrap) L.genQuick = ++L.recGen;
+				L.recScene       = scene;
+				L.recContainer   = &ic;
+				L.recMarksValid  = marked.valid;
+				L.recMarks       = marksGen;
+				L.recColliderRun = ic.iterColliderLastRun;
+				L.recQuick       = quick;
 			}
-			genMarked = ++recGen;
-			if (newQuick || wrap) genQuick = ++recGen;
-			recScene       = scene;
-			recContainer   = &ic;
-			recMarksValid  = marked.valid;
-			recMarks       = marksGen;
-			recColliderRun = ic.iterColliderLastRun;
-			recQuick       = quick;
+			L.remembered.resize(n);
+			L.held.resize(n);
+			rec = L.remembered.data();
+		} else if (!L.remembered.empty()) {
+			L.remembered.clear();
+			L.held.clear();
+			L.recScene = nullptr;
 		}
-		remembered.resize(n);
-		held.resize(n);
-		rec = remembered.data();
-	} else if (!remembered.empty()) {
-		remembered.clear();
-		held.clear();
-		recScene = nullptr;
+		gen[1] = L.genMarked;
+		gen[2] = L.genQuick;
 	}
-	const unsigned gen[3] = { 0, genMarked, genQuick }; // by kind
 	// whether pass 1 can leave out the pair at i from its record alone (kind 1 still asks whether
 	// its bodies exist, kind 2 the table)
-	auto recordOf = [&](long i) -> const Remembered* {
+	const Remembered* recordOf(long i) const
+	{
 		const Remembered& r = rec[i];
 		return (r.kind && r.gen == gen[r.kind] && r.ptr == intrs[i].get()) ? &r : nullptr;
-	};
-
-	std::exception_ptr error;
-	std::mutex         errorMutex;
-	std::atomic<bool>  failed { false }; // after the first exception the threads stop calling functors
-	auto               fail = [&](std::exception_ptr e) {
-                std::lock_guard<std::mutex> lock(errorMutex);
-                if (!error) error = e;
-                failed = true;
-	};
+	}
 
 	// The split of the blocks among the threads: by each block's time on the last step (a block
-	// new since then at the mean). The work is uneven along the container (the contacts of
-	// the settled fill first, the pairs made during the impact last, element contacts costing
-	// several times a sphere pair): split by count, the first of two threads took 0.8-1.2 ms longer
-	// than the second for a 2 ms loop; split by the counts of pairs visited and contacts, the second
-	// took 0.4-1.5 ms longer. (Timings set only which thread sums which forces: the forces are the
-	// same up to round-off, as with any split.)
-	bool weighted = false;
+	// new since then at the mean), because the work is uneven along the container (the contacts
+	// of the settled fill first, the pairs made during the impact last, element contacts costing
+	// several times a sphere pair). Timings set only which thread sums which forces: the forces
+	// are the same up to round-off, as with any split.
+	void splitByWeight()
+	{
 #ifdef YADE_OPENMP
-	weighted = threads > 1;
+		weighted = threads > 1;
 #endif
-	std::vector<Real> prefix; // prefix[c]: the weight of blocks 0..c-1
-	if (weighted) {
-		if ((long)blockWeight.size() != nBlocks) { // (a collider run changed the count: new blocks at the mean)
+		if (!weighted) return;
+		std::vector<Real>& w = L.blockWeight;
+		if ((long)w.size() != nBlocks) { // (a collider run changed the count: new blocks at the mean)
 			Real mean = 0;
-			for (Real w : blockWeight)
-				mean += w;
-			mean = blockWeight.empty() ? 1 : mean / blockWeight.size();
-			blockWeight.resize(nBlocks, mean);
+			for (Real x : w)
+				mean += x;
+			mean = w.empty() ? 1 : mean / w.size();
+			w.resize(nBlocks, mean);
 		}
 		prefix.resize(nBlocks + 1);
 		prefix[0] = 0;
 		for (long c = 0; c < nBlocks; ++c)
-			prefix[c + 1] = prefix[c] + blockWeight[c];
+			prefix[c + 1] = prefix[c] + w[c];
 	}
 	// the first block of part k of nt (k = nt: nBlocks)
-	auto blockAtWeight = [&](int k, int nt) -> long {
+	long blockAtWeight(int k, int nt) const
+	{
 		if (k <= 0) return 0;
 		if (k >= nt) return nBlocks;
 		if (!weighted) return nBlocks * k / nt;
 		const Real w = prefix[nBlocks] * k / nt;
 		return std::lower_bound(prefix.begin(), prefix.end(), w) - prefix.begin();
-	};
-
-	// several threads: the yade-flex law's forces into each thread's own sums (flexa::ThreadForceSums)
-	int nSums = 0;
-#ifdef YADE_OPENMP
-	if (threadSums && threads > 1 && n >= threadSumsMin) nSums = threads;
-#endif
-	if (nSums) sums.prepare(nSums, bodies.n);
-	usedThreadSums = nSums > 0;
-
-#ifdef YADE_OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled)
-#endif
-	{
-	flexa::ForceSink      sink;
-#ifdef YADE_OPENMP
-	if (nSums) sink = sums.sink(omp_get_thread_num());
-#endif
-	flexa::ForceSinkScope sinkScope(nSums ? &sink : nullptr);
-	// each thread one contiguous run of blocks, of about equal work by the last step's weights
-	// (blockAtWeight): handed out one by one (dynamic), the two threads of the 2-vCPU VM worked
-	// on neighbouring blocks, and the loop took 1.2x longer (bench/README.md, "Two threads")
-	long cBegin = 0, cEnd = nBlocks;
-#ifdef YADE_OPENMP
-	{
-		const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
-		cBegin       = blockAtWeight(tid, nt);
-		cEnd         = blockAtWeight(tid + 1, nt);
 	}
+	// several threads: the yade-flex law's forces into each thread's own sums (flexa::ThreadForceSums)
+	void prepareThreadSums()
+	{
+#ifdef YADE_OPENMP
+		if (L.threadSums && threads > 1 && n >= L.threadSumsMin) nSums = threads;
 #endif
-	for (long c = cBegin; c < cEnd; ++c) {
-		if (failed) continue;
-		const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
-		const long lo = c * block, hi = std::min(n, lo + block);
-		// pass 1: the block's interaction objects (streamed in, kFar ahead) and which of them
-		// are left (not marked unreachable), in their order
+		if (nSums) L.sums.prepare(nSums, bodies.n);
+		L.usedThreadSums = nSums > 0;
+	}
+
+	void fail(std::exception_ptr e)
+	{
+		std::lock_guard<std::mutex> lock(errorMutex);
+		if (!error) error = e;
+		failed = true;
+	}
+
+	// One thread's share: one contiguous run of blocks, of about equal work by the last step's
+	// weights (handed out one by one, the threads would work on neighbouring blocks and share
+	// their cache lines).
+	void runThread(Counts& cnt)
+	{
+		flexa::ForceSink sink;
+#ifdef YADE_OPENMP
+		if (nSums) sink = L.sums.sink(omp_get_thread_num());
+#endif
+		flexa::ForceSinkScope sinkScope(nSums ? &sink : nullptr);
+		long                  cBegin = 0, cEnd = nBlocks;
+#ifdef YADE_OPENMP
+		{
+			const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
+			cBegin       = blockAtWeight(tid, nt);
+			cEnd         = blockAtWeight(tid + 1, nt);
+		}
+#endif
 		long live[kMaxBlock];
 		bool fused[kMaxBlock]; // the fused path (fuseSpheres)
+		for (long c = cBegin; c < cEnd; ++c) {
+			if (failed) continue;
+			const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+			const long lo = c * block, hi = std::min(n, lo + block);
+			const int  nLive = listLive(lo, hi, live, fused, cnt);
+			runLive(live, fused, nLive);
+			if (weighted) // this block's time, for the next step's split
+				L.blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
+		}
+	}
+
+	// Pass 1: the block's interaction objects [lo, hi) (streamed in, kFar ahead), and which of
+	// them are left (not marked unreachable, not apart), in their order, into live; fused[j]: the
+	// fused path. The objects are asked for kFar READ objects ahead: those a record leaves out are
+	// neither asked for nor counted. pf: the next place to consider; ahead: the objects asked for
+	// at places in (i, pf).
+	int listLive(long lo, long hi, long* live, bool* fused, Counts& cnt)
+	{
 		int  nLive = 0;
-		// The objects pass 1 will read are asked for kFar READ objects ahead: those a record
-		// leaves out are neither asked for nor counted (counted by place, the stream ran only a
-		// few reads ahead where most places are left out, and those reads waited on memory).
-		// pf: the next place to consider; ahead: the objects asked for at places in (i, pf).
 		long pf = lo, ahead = 0;
 		auto stream = [&]() {
 			for (; ahead < kFar && pf < hi; ++pf)
@@ -512,14 +531,14 @@ void FlexInteractionLoop::action()
 				if (const Remembered* r = recordOf(i)) {
 					if (r->kind == 1) {
 						if (bodies.get(r->id1) && bodies.get(r->id2)) {
-							++recalled;
+							++cnt.recalled;
 							continue;
 						}
 					} else if (apart.p) { // kind 2: what apart(J) would find, from the ids
-						++candidates;
+						++cnt.candidates;
 						if (apart.byIds(r->id1, r->id2) == 2) {
-							++rejected;
-							++recalled;
+							++cnt.rejected;
+							++cnt.recalled;
 							continue;
 						}
 						// the spheres close: to pass 2 (no contact yet, so not fusable), and read
@@ -536,38 +555,44 @@ void FlexInteractionLoop::action()
 			}
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
-			// remember a pair left out without its bodies (rememberSkips)
-			auto remember = [&](unsigned char kind) {
-				Remembered& r = rec[i];
-				r.ptr         = &J;
-				r.id1         = J.getId1();
-				r.id2         = J.getId2();
-				r.gen         = gen[kind];
-				r.kind        = kind;
-				if (held[i].get() != &J) held[i] = intrs[i];
-			};
 			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) {
-				if (rec) remember(1);
+				if (rec) remember(i, J, 1);
 				continue;
 			}
 			if (const int a = apart(J)) {
-				++candidates;
+				++cnt.candidates;
 				if (a == 2) {
-					++rejected;
-					if (rec) remember(2);
+					++cnt.rejected;
+					if (rec) remember(i, J, 2);
 					continue;
 				}
 			}
 			if (rec) rec[i].kind = 0;
 			const int fz = fusable(J);
-			nFusable += fz > 0;
-			nFused += fz == 2;
+			cnt.nFusable += fz > 0;
+			cnt.nFused += fz == 2;
 			fused[nLive]  = fz == 2;
 			live[nLive++] = i;
 		}
-		// pass 2: the live ones, with their bodies, geom and phys asked for kMid live
-		// interactions ahead and the bodies' states and shapes kNear ahead
-		// (a fused contact reads only its geom and phys, and the tables)
+		return nLive;
+	}
+	// remember the pair at i, left out without its bodies (rememberSkips)
+	void remember(long i, const Interaction& J, unsigned char kind)
+	{
+		Remembered& r = rec[i];
+		r.ptr         = &J;
+		r.id1         = J.getId1();
+		r.id2         = J.getId2();
+		r.gen         = gen[kind];
+		r.kind        = kind;
+		if (L.held[i].get() != &J) L.held[i] = intrs[i];
+	}
+
+	// Pass 2: the live ones, with their bodies, geom and phys asked for kMid live interactions
+	// ahead and the bodies' states and shapes kNear ahead (a fused contact reads only its geom and
+	// phys, and the tables).
+	void runLive(const long* live, const bool* fused, int nLive)
+	{
 		for (int j = 0; j < std::min(nLive, (int)kMid); ++j)
 			fetchTargets(intrs[live[j]].get(), bodies, fused[j]);
 		for (int j = 0; j < std::min(nLive, (int)kNear); ++j)
@@ -575,94 +600,162 @@ void FlexInteractionLoop::action()
 		for (int j = 0; j < nLive && !failed; ++j) {
 			if (j + kMid < nLive) fetchTargets(intrs[live[j + kMid]].get(), bodies, fused[j + kMid]);
 			if (j + kNear < nLive && !fused[j + kNear]) fetchStates(intrs[live[j + kNear]].get(), bodies);
-			if (fused[j]) {
-				try {
-					// what the functors do for it (Fusable): the geometry's update, the physics
-					// functor returns at once, the law; shift2 is zero (not periodic)
-					const shared_ptr<Interaction>& I  = intrs[live[j]];
-					const Body::id_t                i1 = I->getId1(), i2 = I->getId2();
-					const SpherePoint &             a = pts[i1], &b = pts[i2];
-					FlexContactGeom&                g = static_cast<FlexContactGeom&>(*I->geom);
-					Ig2_Sphere_Sphere_FlexContactGeom::update(
-					        scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z), Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel,
-					        mot[i1].angVel, mot[i2].vel, mot[i2].angVel);
-					if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
-				} catch (...) {
-					fail(std::current_exception());
-				}
-				continue;
-			}
 			try {
-				const shared_ptr<Interaction>& I   = intrs[live[j]];
-				Body*                          b1_ = bodies.get(I->getId1());
-				Body*                          b2_ = bodies.get(I->getId2());
-				if (!b1_ || !b2_) {
-					ic.requestErase(I); // a body vanished
-					continue;
-				}
-#ifdef YADE_MPI
-				if (scene->subdomain != b1_->subdomain && scene->subdomain != b2_->subdomain) {
-					ic.requestErase(I->getId1(), I->getId2());
-					continue;
-				}
-#endif
-				if (b1_->isClump() || b2_->isClump()) continue;
-				if (!I->functorCache.geomExists) continue; // no Ig2 functor for this pair of shapes
-				if (!b1_->shape || !b2_->shape) continue;
-				bool swap = false;
-				if (!I->functorCache.geom) {
-					I->functorCache.geom = geomDispatcher->getFunctor2D(b1_->shape, b2_->shape, swap);
-					if (!I->functorCache.geom) {
-						I->functorCache.geomExists = false;
-						continue;
-					}
-				}
-				// the functor takes the bodies in its own order: the interaction is swapped once
-				// (its geom and phys do not exist yet), as InteractionLoop does
-				if (swap) I->swapOrder();
-				Body* const    b1      = swap ? b2_ : b1_;
-				Body* const    b2      = swap ? b1_ : b2_;
-				const bool     wasReal = I->isReal();
-				const Vector3r shift2  = scene->isPeriodic ? Vector3r(cellH * I->cellDist.cast<Real>()) : Vector3r(Vector3r::Zero());
-				if (!I->functorCache.geom->go(b1->shape, b2->shape, *b1->state, *b2->state, shift2, /*force*/ false, I)) {
-					if (wasReal) ic.requestErase(I); // the geometry ended: the interaction is reset
-					continue;
-				}
-				if (!I->functorCache.phys) {
-					bool swapPhys        = false;
-					I->functorCache.phys = physDispatcher->getFunctor2D(b1->material, b2->material, swapPhys);
-					if (!I->functorCache.phys)
-						throw std::runtime_error(
-						        "FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and "
-						        + b2->material->getClassName() + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
-				}
-				I->functorCache.phys->go(b1->material, b2->material, I);
-				if (!wasReal) I->iterMadeReal = scene->iter;
-				if (!I->functorCache.constLaw) {
-					bool swapLaw             = false;
-					I->functorCache.constLaw = lawDispatcher->getFunctor2D(I->geom, I->phys, swapLaw);
-					if (!I->functorCache.constLaw)
-						throw std::runtime_error(
-						        "FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and " + I->phys->getClassName()
-						        + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
-				}
-				if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
+				if (fused[j]) runFused(intrs[live[j]]);
+				else
+					runFunctors(intrs[live[j]]);
 			} catch (...) {
 				fail(std::current_exception());
 			}
 		}
-		if (weighted) // this block's time, for the next step's split
-			blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
 	}
-	} // omp parallel
-	if (nSums) flexa::mergeThreadSums(scene, sums, nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
+	// what the functors do for a fused contact (Fusable): the geometry's update, the physics
+	// functor returns at once, the law; shift2 is zero (not periodic)
+	void runFused(const shared_ptr<Interaction>& I)
+	{
+		const Body::id_t   i1 = I->getId1(), i2 = I->getId2();
+		const SpherePoint &a = pts[i1], &b = pts[i2];
+		FlexContactGeom&   g = static_cast<FlexContactGeom&>(*I->geom);
+		Ig2_Sphere_Sphere_FlexContactGeom::update(
+		        scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z), Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel,
+		        mot[i2].vel, mot[i2].angVel);
+		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
+	}
+	// the geometry, physics and law functors of one interaction, as InteractionLoop calls them
+	void runFunctors(const shared_ptr<Interaction>& I)
+	{
+		Body* b1_ = bodies.get(I->getId1());
+		Body* b2_ = bodies.get(I->getId2());
+		if (!b1_ || !b2_) {
+			ic.requestErase(I); // a body vanished
+			return;
+		}
+#ifdef YADE_MPI
+		if (scene->subdomain != b1_->subdomain && scene->subdomain != b2_->subdomain) {
+			ic.requestErase(I->getId1(), I->getId2());
+			return;
+		}
+#endif
+		if (b1_->isClump() || b2_->isClump()) return;
+		if (!I->functorCache.geomExists) return; // no Ig2 functor for this pair of shapes
+		if (!b1_->shape || !b2_->shape) return;
+		bool swap = false;
+		if (!I->functorCache.geom) {
+			I->functorCache.geom = L.geomDispatcher->getFunctor2D(b1_->shape, b2_->shape, swap);
+			if (!I->functorCache.geom) {
+				I->functorCache.geomExists = false;
+				return;
+			}
+		}
+		// the functor takes the bodies in its own order: the interaction is swapped once (its
+		// geom and phys do not exist yet), as InteractionLoop does
+		if (swap) I->swapOrder();
+		Body* const    b1      = swap ? b2_ : b1_;
+		Body* const    b2      = swap ? b1_ : b2_;
+		const bool     wasReal = I->isReal();
+		const Vector3r shift2  = scene->isPeriodic ? Vector3r(cellH * I->cellDist.cast<Real>()) : Vector3r(Vector3r::Zero());
+		if (!I->functorCache.geom->go(b1->shape, b2->shape, *b1->state, *b2->state, shift2, /*force*/ false, I)) {
+			if (wasReal) ic.requestErase(I); // the geometry ended: the interaction is reset
+			return;
+		}
+		if (!I->functorCache.phys) {
+			bool swapPhys        = false;
+			I->functorCache.phys = L.physDispatcher->getFunctor2D(b1->material, b2->material, swapPhys);
+			if (!I->functorCache.phys)
+				throw std::runtime_error(
+				        "FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and " + b2->material->getClassName()
+				        + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+		}
+		I->functorCache.phys->go(b1->material, b2->material, I);
+		if (!wasReal) I->iterMadeReal = scene->iter;
+		if (!I->functorCache.constLaw) {
+			bool swapLaw             = false;
+			I->functorCache.constLaw = L.lawDispatcher->getFunctor2D(I->geom, I->phys, swapLaw);
+			if (!I->functorCache.constLaw)
+				throw std::runtime_error(
+				        "FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and " + I->phys->getClassName() + " (bodies #"
+				        + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+		}
+		if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
+	}
+};
+
+// Whether this step needs InteractionLoop's own loop (and runs it): callbacks, sorted
+// interactions, the collider's removal of unseen interactions, settings out of range.
+bool FlexInteractionLoop::fallBack()
+{
+	InteractionContainer& ic = *scene->interactions;
+	// the collider asks for unseen potential interactions to go on this step (some colliders only)
+	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
+	if (prefetch && !removeUnseen && callbacks.empty() && !loopOnSortedInteractions && blockSize >= 1 && blockSize <= kMaxBlock
+	    && ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)
+		return false;
+	usedFastPath    = false;
+	usedThreadSums  = false;
+	quickRejected   = 0;
+	quickCandidates = 0;
+	fusedContacts   = 0;
+	recalledSkips   = 0;
+	lastCandidates  = -1;
+	lastFusable     = -1;
+	recScene        = nullptr; // (InteractionLoop may give any pair a geometry: the records start again)
+	InteractionLoop::action();
+	return true;
+}
+
+void FlexInteractionLoop::action()
+{
+	flexa::checkScene(scene);
+	if (fallBack()) return;
+	usedFastPath          = true;
+	lawDispatcher->scene  = scene;
+	physDispatcher->scene = scene;
+	geomDispatcher->scene = scene;
+	geomDispatcher->updateScenePtr();
+	physDispatcher->updateScenePtr();
+	lawDispatcher->updateScenePtr();
+	quickRejected   = 0;
+	quickCandidates = 0;
+	fusedContacts   = 0;
+	recalledSkips   = 0;
+	if (scene->interactions->size() == 0) {
+		lastCandidates = 0;
+		lastFusable    = 0;
+		usedThreadSums = false;
+		return;
+	}
+	if (compactEvery > 0 && (scene->iter - lastCompact >= compactEvery || scene->iter < lastCompact)) {
+		compactedContacts = compactContacts(&(*scene->interactions)[0], (long)scene->interactions->size());
+		lastCompact       = scene->iter;
+	}
+	Step step(*this);
+	step.findReaders();
+	step.chooseShortcuts();
+	step.makeSphereTable();
+	step.startRecords();
+	step.splitByWeight();
+	step.prepareThreadSums();
+	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(step.threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled)
+#endif
+	{
+		Step::Counts cnt;
+		step.runThread(cnt);
+		rejected += cnt.rejected;
+		candidates += cnt.candidates;
+		nFusable += cnt.nFusable;
+		nFused += cnt.nFused;
+		recalled += cnt.recalled;
+	}
+	if (step.nSums) flexa::mergeThreadSums(scene, sums, step.nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
 	quickRejected   = rejected;
 	quickCandidates = candidates;
 	fusedContacts   = nFused;
 	recalledSkips   = recalled;
-	lastFusable     = fusable.geoms ? nFusable : -1;
-	lastCandidates  = apart.readers ? candidates : -1; // (not counted: count on the next step)
-	if (error) std::rethrow_exception(error);
+	lastFusable     = step.fusable.geoms ? nFusable : -1;
+	lastCandidates  = step.apart.readers ? candidates : -1; // (not counted: count on the next step)
+	if (step.error) std::rethrow_exception(step.error);
 }
 
 } // namespace yade

@@ -1,73 +1,52 @@
 // yade-flex adapter: FlexInteractionLoop, YADE's InteractionLoop with memory prefetching
-// (GPL-2.0-or-later).
+// (GPL-2.0-or-later). Measurements behind each part: bench/README.md.
 //
 // Why: in a granular scene the interaction loop is bound by memory latency, not arithmetic.
 // Each interaction is a separate heap object, and so are its two bodies, their states and
 // shapes, and the contact's geometry and physics; the loop visits them in the order the collider
-// created them, which is not the order they sit in memory. Profiling the damping module showed
-// InteractionLoop::action's own instructions (the loads of I->id1 and of the bodies' fields)
-// taking about a quarter of the step (27% of the samples while the module's fill settles),
-// waiting on cache misses.
+// created them, which is not the order they sit in memory.
 //
 // What: the same loop, the same functor calls, the same results (bit-identical at -j1: the order
 // of the calls and of the force sums is unchanged; tests/yade/test_loop.py), but each thread
 // takes blocks of consecutive interactions (blockSize) and makes two passes over a block:
-//  1. it reads the interaction objects, asking for each one `ahead[0]` iterations before it
-//     reads it, and lists the interactions left after those the time stepper marked as unable to
-//     touch before the collider runs again (flexa::UnreachableMarks; their functor would return
-//     false first thing, so they are skipped here, before their bodies are touched);
-//     It also leaves out, with quickReject, the sphere-sphere pairs that have no contact and
-//     whose spheres are apart (the functor would return false before changing anything), judged
-//     from a table of the spheres' centres and radii (32 bytes per body, made at the start of the
-//     step from the bodies that were spheres when the body container last changed size, in id
-//     order; every other entry stays r = -1, which sends a pair to its functor): such a pair
-//     costs a lookup in a table that stays in cache instead of reading two bodies, states and
-//     shapes scattered on the heap (on the damping
-//     module 5 ms into the impact: 4,900 of the 12,800 pairs left after the marks; bench/README.md);
-//     the table is made only on steps after one that had such pairs, or new pairs (so not on a
-//     wire net, which has none);
-//     With rememberSkips, a pair left out of either kind is remembered (its object's address,
-//     its ids, a generation), and on the next steps it is left out (or judged from the table)
-//     from that record of 24 bytes read in order, without its interaction object (3 cache lines
-//     at a scattered address): on the damping module 5 ms into the impact, 18,000 of the 25,400
-//     interactions on most steps, and the step 1.05-1.07x faster (bench/loop_settings.py, :norem,
-//     2026-12-03). A record holds while the object at its place in the container is the same
-//     (the record keeps it alive, so that no new one can take its address) and, for a sphere
-//     pair apart, while the functors, quickReject, the scene and the container stay the same
-//     (the table is asked each step); for a marked pair, also until the marks are made again or
-//     a collider runs. A marked pair whose spheres are apart is then counted as left out by
-//     quickReject (recorded so on the collider's step, when no marks hold). The objects pass 1
-//     reads are asked for `ahead[0]` READ objects ahead (the places a record leaves out are not
-//     counted: counted by place, the stream ran too few reads ahead, 1.04-1.10x on the step);
-//  2. it runs the functors on the listed ones, asking for their bodies, geom and phys
-//     `ahead[1]` listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead.
-//     An existing sphere-sphere contact of the yade-flex law (fuseSpheres) is run as one call,
+//  1. it reads the interaction objects, asking for each one `ahead[0]` objects before it reads
+//     it, and lists the interactions left after
+//     - those the time stepper marked as unable to touch before the collider runs again
+//       (flexa::UnreachableMarks, FlexProtocol.hpp: their functor would return false first thing);
+//     - with quickReject, the sphere-sphere pairs without contact whose spheres are apart (the
+//       functor would return false before changing anything), judged from a table of the
+//       spheres' centres and radii made at the start of the step (32 bytes per body in id order,
+//       r = -1 for bodies that are not plain spheres, which sends a pair to its functor); the
+//       table is made only on steps after one that had such pairs or new pairs;
+//     - with rememberSkips, pairs left out on an earlier step: each is remembered (its object's
+//       address, its ids, a generation) and left out again from that 24-byte record, read in
+//       order, without reading its interaction object. A record holds while the object at its
+//       place in the container is the same (the record keeps it alive, so no new object takes its
+//       address) and, for a sphere pair apart, while the functors, quickReject, the scene and the
+//       container stay the same; for a marked pair, also until the marks are made again or the
+//       collider runs. Objects are asked for ahead by reads, not by place (most places are left
+//       out from their records);
+//  2. it runs the functors on the listed ones, asking for their bodies, geom and phys `ahead[1]`
+//     listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead. An
+//     existing sphere-sphere contact of the yade-flex law (fuseSpheres) runs as one call,
 //     Ig2_Sphere_Sphere_FlexContactGeom::update and the law's apply, on the spheres' centres,
-//     radii, velocities and angular velocities from a table made at the start of the step (80
-//     bytes per body, in id order, with quickReject's): its bodies, states and shapes are not
-//     read and the three functors are not dispatched (the physics functor would return at once).
-//     The same arithmetic on the same values: the results are the same bit for bit. On the
-//     damping module 5 ms into the impact, 6,000 of the 6,100 contacts; the loop 1.10x and the
-//     step 1.05x faster (bench/loop_settings.py, 8 alternating windows, 2026-12-02).
+//     radii, velocities and angular velocities from the table (80 bytes per body): the same
+//     arithmetic on the same values, without reading bodies, states and shapes or dispatching.
 // Prefetches never fault, and only interactions of the thread's own block are read ahead (no
 // data race with the thread that owns the next block).
 //
-// Every compactEvery steps (100), at the start of the step, the contacts' geometry and physics
-// objects (FlexContactGeom with FrictPhys) are copied into one block of memory, side by side in the
-// order of the container, which pass 2 follows: it then reads them as one stream, instead of
-// 8 cache lines per contact at addresses that the allocator scattered as contacts came and went.
-// The copies are exact, so the results are the same bit for bit. An object that Python or another
-// interaction also holds (use_count > 1) stays where it is, so that a reference held from Python
-// stays the live object. Each copy is released on its own; the block goes with its last copy.
-// On the damping module 5 ms into the impact the step ran 1.10x and 1.25x faster (paired windows,
-// bench/README.md, "Contacts side by side"; 1.31x with the other core busy with the same work).
+// Every compactEvery steps, at the start of the step, the contacts' geometry and physics objects
+// (FlexContactGeom with FrictPhys) are copied into one block of memory in the order of the
+// container, which pass 2 follows: it reads them as one stream instead of from addresses the
+// allocator scattered as contacts came and went. The copies are exact. An object that Python or
+// another interaction also holds (use_count > 1) stays where it is, so that a reference held
+// from Python stays the live object. Each copy is released on its own; the block with its last.
 //
-// On several threads, each thread takes one contiguous run of blocks, the runs split so that each
+// On several threads, each thread takes one contiguous run of blocks, split so that each
 // thread's blocks took about as long on the last step; and (threadSums) the yade-flex contact law
 // adds its forces to the thread's own per-body sums (flexa::ThreadForceSums), added to the
 // ForceContainer once per body after the loop, instead of ForceContainer::addForce per contact,
-// whose writes to fields shared by all threads made two threads slower than one on the 2-vCPU VM
-// of 2026-12-02 (bench/README.md, "Two threads"). One thread runs exactly as before.
+// whose writes to fields shared by all threads contend. One thread runs exactly as before.
 //
 // Steps the fast path does not cover run InteractionLoop::action unchanged: interaction
 // callbacks, loopOnSortedInteractions, and the steps on which the collider asks for unseen
@@ -78,9 +57,9 @@
 // The skip of marked pairs does not look at the bodies' MPI subdomains: YADE's MPI mode is not
 // supported here (nor anywhere in yade-flex). InteractionLoop's warning for a geometry functor
 // that returns false on a real interaction is not printed (the interaction is reset all the same).
-#pragma once
 #include "FlexPch.hpp"
 #include "FlexForces.hpp"
+#include "FlexTuning.hpp"
 
 #include <core/InteractionLoop.hpp>
 
@@ -148,20 +127,24 @@ private:
 	// compactEvery: the step of the last copy
 	long lastCompact = 0;
 
+	class Step; // one step of the loop: FlexLoop.cpp
+	friend class Step;
+	bool fallBack();
+
 public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexInteractionLoop, InteractionLoop,
 		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/FlexLoop.hpp.",
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
-		((int, blockSize, 256, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache [-]"))
-		((Vector3i, ahead, Vector3i(12, 6, 3), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
+		((int, blockSize, flexa::tuning::kBlockSize, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache [-]"))
+		((Vector3i, ahead, Vector3i(flexa::tuning::kAheadObjects, flexa::tuning::kAheadTargets, flexa::tuning::kAheadStates), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
 		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
 		((bool, fuseSpheres, true, , "On the prefetching loop, run an existing sphere-sphere contact (Ig2_Sphere_Sphere_FlexContactGeom, Ip2_FrictMat_FrictMat_FrictPhys, Law2_FlexContactGeom_FrictPhys_CundallStrack, two plain spheres) as one call from a table of the spheres' centres, radii, velocities and angular velocities made at the start of the step, without reading their bodies, states and shapes or calling the three functors through the dispatch; False: through the functors (for comparisons). Same results bit for bit."))
 		((bool, threadSums, true, , "On the prefetching loop with several threads and at least threadSumsMin interactions, each thread sums the forces of the yade-flex contact law in its own arrays, added to O.forces once per body after the loop (flexa::ThreadForceSums: ForceContainer.addForce from two threads at once contends for shared cache lines); False: addForce per contact (for comparisons). Same forces up to round-off; one thread never uses them."))
-		((long, threadSumsMin, 4096, , "Fewest interactions for threadSums: below, the few addForce calls contend little and adding the sums (a pass over every body, on every thread) costs more (the wire net of bench/profile_wire.py, 267 interactions: 20.3-20.4 against 22.1-23.6 us per step at -j2 with the sums; 20.5-21.4 against 20.7 with this minimum) [-]"))
+		((long, threadSumsMin, flexa::tuning::kThreadSumsMin, , "Fewest interactions for threadSums: below, the few addForce calls contend little and adding the sums (a pass over every body, on every thread) costs more (bench/profile_wire.py) [-]"))
 		((bool, rememberSkips, true, , "On the prefetching loop, remember for each pair left out without its bodies (marked unreachable, or a sphere pair of quickReject) that it was, and on the next steps, while the marks and the interaction at that place in the container stay the same, leave it out (or judge it from the table of centres) without reading its interaction object; False: every interaction object is read on every step (for comparisons). Same results bit for bit. Assumes that nothing but this loop (or InteractionLoop's own loop when this one falls back to it, after which the records start again) gives such a potential pair a geometry or physics: the container's insert, erase and clear are seen, and a pair reset in place by O.interactions.erase is still left out from its record, with the same results (tests/yade/test_loop.py)."))
-		((long, compactEvery, 100, , "On the prefetching loop, every this many steps, copy the geometry and physics of the contacts (FlexContactGeom with FrictPhys) into one block of memory, side by side in the order the loop visits them, so that it reads them as one stream instead of from scattered places on the heap; 0: never. The copies are exact (same results bit for bit); an object that anything else holds too (a Python reference, another interaction) is left where it is [steps]"))
+		((long, compactEvery, flexa::tuning::kCompactEvery, , "On the prefetching loop, every this many steps, copy the geometry and physics of the contacts (FlexContactGeom with FrictPhys) into one block of memory, side by side in the order the loop visits them, so that it reads them as one stream instead of from scattered places on the heap; 0: never. The copies are exact (same results bit for bit); an object that anything else holds too (a Python reference, another interaction) is left where it is [steps]"))
 		((long, compactedContacts, 0, Attr::readonly, "Contacts copied by the last compaction (compactEvery) [-]"))
 		((long, recalledSkips, 0, Attr::readonly, "Pairs left out on the last step from rememberSkips' records, without reading their interaction objects [-]"))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))

@@ -1,6 +1,10 @@
 // yade-flex adapter: FlexNewtonIntegrator, NewtonIntegrator for scenes with yade-flex elements
 // (GPL-2.0-or-later). Declaration: Flex.hpp.
-#include "FlexCommon.hpp"
+#include "FlexElements.hpp"
+#include "FlexProtocol.hpp"
+#include "FlexTuning.hpp"
+
+#include <kernel/LeapFrog.hpp>
 #include "FlexSceneCheck.hpp"
 
 #include <core/Clump.hpp>
@@ -133,15 +137,6 @@ namespace {
 			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 		}
 	};
-	// Cundall's non-viscous damping factor 1 - c sign(x_i) of each component (x_i = a_i v_i, v at
-	// mid-step), picked among 1 - c, 1 + c and 1 (the same values, bit for bit): about 5
-	// instructions a component instead of 22 (sign as an int, converted, multiplied, in a loop
-	// writing the vectors' components one by one; callgrind on the wire-net bench)
-	struct DampFactors {
-		Real     minus, plus; // 1 - c, 1 + c
-		Real     of(Real x) const { return x > 0 ? minus : (x < 0 ? plus : Real(1)); }
-		Vector3r factors(const Vector3r& x) const { return Vector3r(of(x[0]), of(x[1]), of(x[2])); }
-	};
 }
 
 Real FlexNewtonIntegrator::dampingOnBlockedDofs()
@@ -192,16 +187,14 @@ void FlexNewtonIntegrator::action()
 	const Real* nSweep = nodeSweep.data();
 	const Vector3r* nRef = nodeRef.data();
 	// the collider trigger's maximum (0.5: every body inside its sweep, 2: one left it), each
-	// thread's own in the reduction. It was a table of per-thread entries, 8 bytes apart and
-	// written at every body, so two threads wrote one cache line by turns: the integrator took
-	// 1.18x less time on two threads than on one; 1.92x less with the reduction (the damping
-	// module 5 ms into the impact, medians of 5 runs; bench/README.md, "Two threads")
+	// thread's own in the reduction (a shared table of per-thread entries would put two threads'
+	// writes on one cache line)
 	Real sweepMax = 0;
 	const shared_ptr<Body>* bodies = scene->bodies->body.data();
 	const long n      = (long)movers.size();
 	const Body::id_t* mv = movers.data();
 	const bool        pf = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
-	const DampFactors damp { 1 - damping, 1 + damping };
+	const flex::LeapFrogSettings lf { dt, gravity, damping, flex::DampFactors(damping), dampGravity };
 	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
 	long nDamp = 0;
 #ifdef YADE_OPENMP
@@ -209,9 +202,11 @@ void FlexNewtonIntegrator::action()
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
-			if (k + 8 < n) flexa::prefetch(bodies[mv[k + 8]].get(), sizeof(Body));
-			if (k + 4 < n)
-				if (const Body* bb = bodies[mv[k + 4]].get()) {
+			using flexa::tuning::kAheadIntegratorBodies;
+			using flexa::tuning::kAheadIntegratorParts;
+			if (k + kAheadIntegratorBodies < n) flexa::prefetch(bodies[mv[k + kAheadIntegratorBodies]].get(), sizeof(Body));
+			if (k + kAheadIntegratorParts < n)
+				if (const Body* bb = bodies[mv[k + kAheadIntegratorParts]].get()) {
 					flexa::prefetch(bb->state.get(), sizeof(State));
 					if (bb->bound) flexa::prefetch(bb->bound.get(), sizeof(Aabb));
 				}
@@ -235,70 +230,20 @@ void FlexNewtonIntegrator::action()
 		const Vector3r f = scene->forces.getForce(id);
 		const Vector3r m = scene->forces.getTorque(id);
 		const unsigned blocked = st->blockedDOFs;
+		static_assert(unsigned(State::DOF_ALL) == flex::kAllDofs, "the kernel numbers DOFs as State::axisDOF");
+		flex::BodyDofs dofs { st->pos, st->vel, st->angVel, st->ori, st->inertia, st->mass, blocked, st->isDamped };
 		if (track) {
-			// the same terms as NewtonIntegrator: non-viscous damping |v_i||F_i| c dt (gravity
-			// included), kinetic energy before the update, work of gravity -m g.v dt. Unlike
-			// NewtonIntegrator, damping is booked on free DOFs only: a blocked (driven) DOF is not
-			// damped, and booking |v||F| c dt there would claim energy nothing dissipated. Summed
-			// here and booked once per step (with addEnergy below, O.trackEnergy went from 9.7% to
-			// 3.8% of a granular step, both changes together, paired).
+			// the same terms as NewtonIntegrator (kernel/LeapFrog.hpp), summed here and booked
+			// once per step; damping on free DOFs only
 			if (damping != 0 && st->isDamped && blocked != State::DOF_ALL) {
 				++nDamp;
-				if (blocked == 0) // the common case
-					eDamp += (st->vel.cwiseAbs().dot((f + st->mass * gravity).cwiseAbs()) + st->angVel.cwiseAbs().dot(m.cwiseAbs())) * damping * dt;
-				else {
-					Real e = 0;
-					for (int i = 0; i < 3; ++i) {
-						if (!(blocked & State::axisDOF(i, false))) e += std::abs(st->vel[i]) * std::abs(f[i] + st->mass * gravity[i]);
-						if (!(blocked & State::axisDOF(i, true))) e += std::abs(st->angVel[i]) * std::abs(m[i]);
-					}
-					eDamp += e * damping * dt;
-				}
+				eDamp += flex::dampingWork(f, m, dofs, lf);
 			}
 			eKinT += 0.5 * st->mass * st->vel.squaredNorm();
 			eKinR += 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
 			eGrav += -gravity.dot(st->vel) * st->mass * dt;
 		}
-		if (blocked != State::DOF_ALL) {
-			// accelerations on free DOFs; Cundall's non-viscous damping scales each component by
-			// 1 - c sign(a_i v_i), v taken at mid-step (v + a dt/2)
-			Vector3r a, al;
-			if (blocked == 0) { // the common case, as vectors (the same IEEE operations per component)
-				a = dampGravity ? Vector3r(f / st->mass + gravity) : Vector3r(f / st->mass);
-				// no moment (the nodes of bar and truss links, grains without contact): +-0 / I is
-				// +-0 for I > 0, so the quotient is the moment itself, bit for bit, without its
-				// three divisions
-				if (m[0] == 0 && m[1] == 0 && m[2] == 0 && st->inertia[0] > 0 && st->inertia[1] > 0 && st->inertia[2] > 0) al = m;
-				else
-					al = m.cwiseQuotient(st->inertia);
-			} else {
-				a = al = Vector3r::Zero();
-				for (int i = 0; i < 3; ++i) {
-					if (!(blocked & State::axisDOF(i, false))) a[i] = f[i] / st->mass + (dampGravity ? gravity[i] : 0);
-					if (!(blocked & State::axisDOF(i, true))) al[i] = m[i] / st->inertia[i];
-				}
-			}
-			if (st->isDamped && damping != 0) {
-				a  = a.cwiseProduct(damp.factors(a.cwiseProduct(st->vel + (0.5 * dt) * a)));
-				al = al.cwiseProduct(damp.factors(al.cwiseProduct(st->angVel + (0.5 * dt) * al)));
-			}
-			if (!dampGravity)
-				for (int i = 0; i < 3; ++i)
-					if (!(blocked & State::axisDOF(i, false))) a[i] += gravity[i];
-			st->vel += dt * a;
-			st->angVel += dt * al;
-		}
-		st->pos += st->vel * dt;
-		const Real w2 = st->angVel.squaredNorm();
-		if (w2 != 0) {
-			const Real w = sqrt(w2);
-			st->ori      = Quaternionr(AngleAxisr(w * dt, st->angVel / w)) * st->ori;
-		}
-		// Eigen's normalize() (divide by sqrt(|q|^2) if |q|^2 > 0), written out so that |q|^2 is
-		// computed once, and skipped when |q|^2 is exactly 1, where it is the identity (sqrt(1) = 1,
-		// x / 1 = x): a node that never turned saves a square root and four divisions
-		const Real q2 = st->ori.squaredNorm();
-		if (q2 != 1 && q2 > 0) st->ori.coeffs() /= sqrt(q2);
+		flex::leapFrog(f, m, dofs, lf);
 		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
 			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
 			if (!(d == 0 || d < nSweep[id])) mx = 2;

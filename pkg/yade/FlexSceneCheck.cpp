@@ -1,6 +1,8 @@
 // yade-flex adapter: the scene check (GPL-2.0-or-later). What and why: FlexSceneCheck.hpp.
 #include "FlexSceneCheck.hpp"
-#include "FlexCommon.hpp"
+#include "FlexElements.hpp"
+#include "FlexProtocol.hpp"
+#include "FlexTuning.hpp"
 #include "FlexFacet.hpp"
 
 #include <core/InteractionLoop.hpp>
@@ -133,6 +135,7 @@ namespace flexa {
 		// the engines' parameters that enter every step's arithmetic
 		void checkEngines(const Scene* scene)
 		{
+			checkEngineOrder(scene);
 			for (const auto& e : scene->engines) {
 				if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) {
 					if (!(nw->damping >= 0 && nw->damping < 1)) refuseEngine(*nw, "damping", nw->damping, "in [0, 1)");
@@ -169,9 +172,11 @@ namespace flexa {
 		std::vector<const Body*> elements; // (checked against the node table once it is complete)
 		for (long id = 0; id < n; ++id) {
 			// two levels ahead: the body 32 ahead, then what is read of the one 16 ahead
-			if (id + 32 < n) flexa::prefetch(body[id + 32].get(), sizeof(Body));
-			if (id + 16 < n)
-				if (const Body* c = body[id + 16].get()) {
+			using flexa::tuning::kAheadCheckBodies;
+			using flexa::tuning::kAheadCheckParts;
+			if (id + kAheadCheckBodies < n) flexa::prefetch(body[id + kAheadCheckBodies].get(), sizeof(Body));
+			if (id + kAheadCheckParts < n)
+				if (const Body* c = body[id + kAheadCheckParts].get()) {
 					flexa::prefetch(c->state.get(), 192); // (the fields read: a few lines, not all of State)
 					flexa::prefetch(c->shape.get(), 64);
 				}

@@ -1,5 +1,7 @@
 // yade-flex adapter: shapes, material, geometry, bound (GPL-2.0-or-later).
-#include "FlexCommon.hpp"
+#include "FlexElements.hpp"
+#include "FlexLaws.hpp"
+#include <kernel/TimeStep.hpp>
 
 #include <kernel/WireLaw.hpp>
 

@@ -1,9 +1,17 @@
 // yade-flex adapter: FlexTimeStepper, the critical time step from bonds and contacts
 // (GPL-2.0-or-later). Declaration: Flex.hpp; the contact rows' derivation:
 // pkg/kernel/ContactRows.hpp.
-#include "FlexCommon.hpp"
+#include "FlexContactSide.hpp"
+#include "FlexElements.hpp"
+#include "FlexLaws.hpp"
+#include "FlexProtocol.hpp"
 #include "FlexSceneCheck.hpp"
-#include "kernel/ContactRows.hpp"
+#include "FlexTuning.hpp"
+
+#include <kernel/ClosestPoints.hpp>
+#include <kernel/ContactRows.hpp>
+#include <kernel/TimeStep.hpp>
+#include <kernel/Triangle.hpp>
 
 #include <core/InteractionLoop.hpp>
 #include <pkg/common/InsertionSortCollider.hpp>
@@ -18,39 +26,6 @@
 namespace yade {
 
 YADE_PLUGIN((FlexTimeStepper));
-
-namespace flexa {
-	namespace {
-		struct ColliderMemo {
-			const Scene*                                                 scene = nullptr;
-			std::vector<std::pair<const Engine*, const std::type_info*>> seen;
-			const InsertionSortCollider*                                 collider = nullptr;
-		};
-	}
-	// The engine list is checked against the one seen last (each engine's address and dynamic
-	// type, a pointer comparison each) and searched with dynamic_cast only when it changed (a
-	// dynamic_cast over the engines costs about 2,200 instructions per call).
-	long insertionSortColliderRuns(const Scene* scene)
-	{
-		thread_local ColliderMemo m;
-		const auto&               engines = scene->engines;
-		bool                      same    = m.scene == scene && m.seen.size() == engines.size();
-		for (size_t i = 0; same && i < engines.size(); ++i) {
-			const Engine* e = engines[i].get();
-			same            = e == m.seen[i].first && (!e || &typeid(*e) == m.seen[i].second);
-		}
-		if (!same) {
-			m.scene    = scene;
-			m.collider = nullptr;
-			m.seen.clear();
-			for (const auto& e : engines) {
-				m.seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
-				if (const InsertionSortCollider* c = dynamic_cast<const InsertionSortCollider*>(e.get())) m.collider = c; // the last one
-			}
-		}
-		return m.collider ? m.collider->numAction : -1;
-	}
-}
 
 Real FlexTimeStepper::omega2Bonds() const
 {
@@ -114,10 +89,6 @@ Real FlexTimeStepper::omega2Bonds() const
 }
 
 namespace {
-	// Interactions from which FlexTimeStepper's pass over them runs on every OpenMP thread
-	// (below, starting the threads costs more than they save)
-	constexpr long kParallelStepperMin = 4096;
-
 	// What the time step needs of one body, gathered once per estimate (dynamic_casts and
 	// shared_ptr hops once per body instead of once per interaction side).
 	struct StepBody {
@@ -198,193 +169,151 @@ boost::python::list FlexTimeStepper::unreachablePairs() const
 	return l;
 }
 
-Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut, bool mark) const
-{
-	// Gershgorin rows of M^-1/2 K M^-1/2 for all contact springs (flex::contactRows, derivation
-	// in pkg/kernel/ContactRows.hpp). Rotations: the shear spring at lever l on inertia I gives
+namespace {
+	// Gershgorin rows of M^-1/2 K M^-1/2 for all contact springs (flex::contactRows, derivation in
+	// pkg/kernel/ContactRows.hpp). Rotations: the shear spring at lever l on inertia I gives
 	// k_s l^2 / I per side, doubled for coupling. Potential contacts (bounds overlap, no contact
 	// yet) and contacts not carrying force now count too (flex::potentialContactRows), with the
 	// stiffness Ip2_FrictMat_FrictMat_FrictPhys will give them (their own, for an existing one)
 	// and, for each row, the worst weights over the contact's position: a contact appearing or
 	// restarting between two estimates must not find a step already too long for it.
-	const std::vector<StepBody> sb = stepBodies(scene);
-	const Body::id_t            nb = (Body::id_t)sb.size();
-	std::vector<Real>           row(sb.size(), 0), rowRot(sb.size(), 0);
-	auto invSqrtMass = [&](Body::id_t id) -> Real { return (id < 0 || id >= nb) ? 0 : sb[id].invSqrtMass; };
-	// (rows: the thread's own row sums, see the parallel loop below)
-	auto addRot = [&](Real* rot, Body::id_t id, Real ks, Real w, Real lever) {
-		const Real Imin = sb[id].Imin;
-		if (Imin > 0 && std::isfinite(lever)) rot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
-	};
-	// the contact law, for rolling resistance between spheres (a rotational spring kr)
-	const Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
-	for (const auto& e : scene->engines)
-		if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get()))
-			for (const auto& f : il->lawDispatcher->functors)
-				if (!law) law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get());
+	//
 	// Potential pairs that cannot touch before the collider runs again are left out: the collider
 	// re-runs once a point leaves the sweep box of its bound, and this estimate is then made again
 	// before the integrator uses the step (see flex::cannotTouch). Only with an
 	// InsertionSortCollider (the guarantee is its trigger) and for shapes whose points are known:
-	// spheres (clump members too) and elements; everything else counts as before.
-	bool canSkip = skipUnreachable && !scene->isPeriodic; // (the gaps below ignore periodic images)
-	if (canSkip) {
-		canSkip = false;
-		for (const auto& e : scene->engines)
-			if (dynamic_cast<const InsertionSortCollider*>(e.get())) canSkip = true;
-	}
-	long skipped = 0;
-	// the skipped pairs are also marked for the geometry functors (flexa::UnreachableMarks)
-	flexa::UnreachableMarks& marks = flexa::unreachableMarks();
-	if (mark) {
-		marks.scene = nullptr;
-		++marks.generation;
-		marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
-	}
-	// the defining points of a body (sphere centre, element nodes) and how far they may still
-	// travel before the collider runs; false: unknown (no bound yet, another shape)
-	// per body, once per estimate (on first use): its points, how far they may still travel, and
-	// the size of their coordinates (for the round-off margin)
-	struct Side {
-		signed char state = 0; // 0: not computed yet, 1: known, -1: unknown
-		int         n     = 0;
-		Real        reach = 0, size = 0;
-		Vector3r    x[3];
-	};
-	std::vector<Side> sides(canSkip ? sb.size() : 0);
-	auto              sideOf = [&](Body::id_t id) -> const Side& {
-                Side& sd = sides[id];
-                if (sd.state) return sd;
-                sd.state      = -1;
-                const Body* b = scene->bodies->body[id].get();
-                if (!b || !b->bound) return sd;
-                const Real            sweep = b->bound->sweepLength;
-                const flexa::Element& el    = sb[id].el;
-                if (el.nNodes) {
-                        const Vector3r* ref[3] { nullptr, nullptr, nullptr };
-                        if (el.cyl) {
-                                ref[0] = &el.cyl->boundRef1;
-                                ref[1] = &el.cyl->boundRef2;
-                        } else {
-                                ref[0] = &el.fac->boundRef1;
-                                ref[1] = &el.fac->boundRef2;
-                                ref[2] = &el.fac->boundRef3;
-                        }
-                        for (int a = 0; a < el.nNodes; ++a) {
-                                const State* st = flexa::stateOf(scene, el.nodes[a]);
-                                if (!st) return sd;
-                                sd.x[a]  = st->pos;
-                                sd.reach = std::max(sd.reach, flex::reachableDistance(sd.x[a], *ref[a], sweep));
-                                sd.size  = std::max(sd.size, sd.x[a].cwiseAbs().maxCoeff());
-                        }
-                        sd.n = el.nNodes;
-                } else if (sb[id].sphere) {
-                        sd.x[0]  = b->state->pos;
-                        sd.reach = flex::reachableDistance(sd.x[0], b->bound->refPos, sweep);
-                        sd.size  = sd.x[0].cwiseAbs().maxCoeff();
-                        sd.n     = 1;
-                } else
-                        return sd;
-                sd.state = 1;
-                return sd;
-	};
-	auto cannotTouchBeforeCollider = [&](Body::id_t i1, Body::id_t i2) -> bool {
-		const Side &s1 = sideOf(i1), &s2 = sideOf(i2);
-		if (s1.state < 0 || s2.state < 0) return false;
-		const int      n1 = s1.n, n2 = s2.n;
-		const Vector3r *x1 = s1.x, *x2 = s2.x;
-		const Real     reach1 = s1.reach, reach2 = s2.reach, size = std::max(s1.size, s2.size);
-		// cheap first: the points' boxes farther apart than both radii and both reaches
-		Vector3r p[6];
-		for (int a = 0; a < n1; ++a)
-			p[a] = x1[a];
-		for (int a = 0; a < n2; ++a)
-			p[n1 + a] = x2[a];
-		const Real reachAll = sb[i1].radius + sb[i2].radius + reach1 + reach2;
-		if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, reachAll))) return true;
-		// a point or segment and a triangle: the plane test next (a wire or grain beside a
-		// lining), before the exact distance
-		if (n2 == 3 && n1 < 3 && flex::segmentTriangleApart(x1[0], x1[n1 - 1], x2[0], x2[1], x2[2], reachAll)) return true;
-		if (n1 == 3 && n2 < 3 && flex::segmentTriangleApart(x2[0], x2[n2 - 1], x1[0], x1[1], x1[2], reachAll)) return true;
-		const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
-		return flex::cannotTouch(gap, reach1, reach2, size);
-	};
-	// The rows of a pair that may carry a contact before the next estimate (a potential pair, or
-	// a contact not carrying force now), at its worst position (flex::potentialContactRows):
-	// each side's DOF bodies are an element's nodes, else the body itself.
-	auto potentialRows = [&](Real* rowOut, Real* rotOut, Body::id_t i1, Body::id_t i2, Real kn, Real ks) {
-		const StepBody*  bs[2] = { &sb[i1], &sb[i2] };
-		Real             r[2]  = { bs[0]->radius, bs[1]->radius };
-		if (r[0] <= 0) r[0] = r[1];
-		if (r[1] <= 0) r[1] = r[0];
-		Body::id_t       ids[2][3];
-		flex::RowSide    side[2];
-		const Body::id_t self[2] = { i1, i2 };
-		for (int s = 0; s < 2; ++s) {
-			const flexa::Element& el = bs[s]->el;
-			side[s].kappa            = el.fac ? bs[s]->kappa : 0;
-			side[s].n                = el.nNodes ? el.nNodes : 1;
-			for (int a = 0; a < side[s].n; ++a) {
-				ids[s][a]                = el.nNodes ? el.nodes[a] : self[s];
-				side[s].invSqrtMass[a] = invSqrtMass(ids[s][a]);
+	// spheres (clump members too) and elements; everything else counts as before. With `mark`,
+	// the pairs left out are also marked for the geometry functors (flexa::UnreachableMarks).
+	class ContactRowsPass {
+	public:
+		ContactRowsPass(const Scene* s, bool prefetch, bool skipUnreachable, bool mark, std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut)
+		        : scene(s)
+		        , sb(stepBodies(s))
+		        , nb((Body::id_t)sb.size())
+		        , prefetch(prefetch)
+		        , canSkip(skipUnreachable && !s->isPeriodic && flexa::insertionSortColliderRuns(s) >= 0) // (the gaps ignore periodic images)
+		        , mark(mark)
+		        , skippedOut(skippedOut)
+		        , marks(flexa::unreachableMarks())
+		        , row(sb.size(), 0)
+		        , rowRot(sb.size(), 0)
+		{
+			findLaw();
+			if (mark) {
+				marks.scene = nullptr;
+				++marks.generation;
+				marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
 			}
 		}
-		Real rows[2][3];
-		flex::potentialContactRows(side[0], side[1], std::max(kn, ks), rows[0], rows[1]);
-		for (int s = 0; s < 2; ++s)
-			for (int a = 0; a < side[s].n; ++a) {
-				if (side[s].invSqrtMass[a] == 0) continue;
-				rowOut[ids[s][a]] += rows[s][a];
-				if (!bs[s]->el.fac) addRot(rotOut, ids[s][a], ks, 1, r[s]);
-			}
-	};
-	InteractionContainer&          ic    = *scene->interactions;
-	const long                     nI    = (long)ic.size();
-	const shared_ptr<Interaction>* intrs = nI ? &ic[0] : nullptr;
-	// In parallel on large scenes (it is a serial engine's pass over every interaction, run at
-	// each collider run): each thread sums its interactions into its own rows, added up in
-	// thread order afterwards (one thread: the serial sums, bit for bit); the bodies' Sides are
-	// all computed first, so that the threads only read them. A list of the skipped pairs
-	// (unreachablePairs) is made serially, in order.
-	int nThreads = 1;
+
+		// the rows of every interaction, summed; returns the largest row and its body
+		Real run(Body::id_t& stiffest, long& skippedCount)
+		{
+			InteractionContainer& ic = *scene->interactions;
+			nI                             = (long)ic.size();
+			intrs                          = nI ? &ic[0] : nullptr;
+			// In parallel on large scenes (a serial engine's pass over every interaction, run at
+			// each collider run): each thread sums its interactions into its own rows, added up in
+			// thread order afterwards (one thread: the serial sums, bit for bit); the bodies' Sides
+			// are all computed first, so that the threads only read them. A list of the skipped
+			// pairs (unreachablePairs) is made serially, in order.
+			int nThreads = 1;
 #ifdef YADE_OPENMP
-	if (!skippedOut && nI >= kParallelStepperMin) nThreads = omp_get_max_threads();
+			if (!skippedOut && nI >= flexa::tuning::kStepperParallelMin) nThreads = omp_get_max_threads();
 #endif
-	std::vector<std::vector<Real>> moreRows(2 * (nThreads - 1), std::vector<Real>(sb.size(), 0));
-	if (canSkip) {
-		// all at once, in id order with the bodies' bounds and states asked for ahead (computed on
-		// first use, in the order of the interactions, each waited on its body: 12% of the estimate)
-		const shared_ptr<Body>* body = scene->bodies->body.data();
-#ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) num_threads(nThreads)
-#endif
-		for (long id = 0; id < (long)nb; ++id) {
-			flexa::prefetchBodiesAhead(body, (long)nb, id, [](const Body& c) {
-				flexa::prefetch(c.bound.get(), sizeof(Aabb));
-				if (const State* st = c.state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
-			});
-			sideOf((Body::id_t)id);
-		}
-	}
+			std::vector<std::vector<Real>> moreRows(2 * (nThreads - 1), std::vector<Real>(sb.size(), 0));
+			if (canSkip) computeSides(nThreads);
+			long skipped = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel num_threads(nThreads) reduction(+ : skipped)
 #endif
-	{
+			{
 #ifdef YADE_OPENMP
-	const int thread = omp_get_thread_num();
+				const int thread = omp_get_thread_num();
 #else
-	const int thread = 0;
+				const int thread = 0;
 #endif
-	Real* const myRow = thread == 0 ? row.data() : moreRows[2 * (thread - 1)].data();
-	Real* const myRot = thread == 0 ? rowRot.data() : moreRows[2 * (thread - 1) + 1].data();
+				Real* const myRow = thread == 0 ? row.data() : moreRows[2 * (thread - 1)].data();
+				Real* const myRot = thread == 0 ? rowRot.data() : moreRows[2 * (thread - 1) + 1].data();
 #ifdef YADE_OPENMP
 #pragma omp for schedule(static)
 #endif
-	for (long li = 0; li < nI; ++li) {
-		if (prefetch) { // the interaction 12 ahead, what the one 6 ahead points to (FlexLoop.hpp)
-			if (li + 12 < nI) flexa::prefetch(intrs[li + 12].get(), sizeof(Interaction));
-			if (li + 6 < nI) {
-				const Interaction* J = intrs[li + 6].get();
+				for (long li = 0; li < nI; ++li) {
+					if (prefetch) fetchAhead(li);
+					const Interaction& I = *intrs[li];
+					if (I.isReal()) realContactRows(I, myRow, myRot);
+					else
+						skipped += potentialPairRows(I, myRow, myRot);
+				}
+			} // omp parallel
+			for (int t = 1; t < nThreads; ++t)
+				for (size_t i = 0; i < sb.size(); ++i) {
+					row[i] += moreRows[2 * (t - 1)][i];
+					rowRot[i] += moreRows[2 * (t - 1) + 1][i];
+				}
+			skippedCount = skipped;
+			if (mark && canSkip) { // valid until the collider runs (else none: marks.scene stays null)
+				marks.collider      = flexa::insertionSortCollider(scene);
+				marks.runs          = &static_cast<const InsertionSortCollider&>(*marks.collider).numAction;
+				marks.runsAtMarking = *marks.runs;
+				marks.scene         = scene;
+			}
+			Real w2  = 0;
+			stiffest = -1;
+			for (size_t i = 0; i < row.size(); ++i)
+				if (std::max(row[i], rowRot[i]) > w2) {
+					w2       = std::max(row[i], rowRot[i]);
+					stiffest = (Body::id_t)i;
+				}
+			return w2;
+		}
+
+	private:
+		// the defining points of a body (sphere centre, element nodes), how far they may still
+		// travel before the collider runs, and the size of their coordinates (for the round-off
+		// margin); once per body and estimate
+		struct Side {
+			signed char state = 0; // 0: not computed yet, 1: known, -1: unknown (no bound yet, another shape)
+			int         n     = 0;
+			Real        reach = 0, size = 0;
+			Vector3r    x[3];
+		};
+
+		const Scene* const                                    scene;
+		const std::vector<StepBody>                           sb;
+		const Body::id_t                                      nb;
+		const bool                                            prefetch, canSkip, mark;
+		std::vector<std::pair<Body::id_t, Body::id_t>>* const skippedOut;
+		flexa::UnreachableMarks&                              marks;
+		std::vector<Real>                                     row, rowRot;
+		std::vector<Side>                                     sides;
+		// the contact law, for rolling resistance between spheres (a rotational spring kr)
+		const Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
+		long                                                 nI  = 0;
+		const shared_ptr<Interaction>*                       intrs = nullptr;
+
+		void findLaw()
+		{
+			for (const auto& e : scene->engines)
+				if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get()))
+					for (const auto& f : il->lawDispatcher->functors)
+						if (!law) law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get());
+		}
+		Real invSqrtMass(Body::id_t id) const { return (id < 0 || id >= nb) ? 0 : sb[id].invSqrtMass; }
+		void addRot(Real* rot, Body::id_t id, Real ks, Real w, Real lever) const
+		{
+			const Real Imin = sb[id].Imin;
+			if (Imin > 0 && std::isfinite(lever)) rot[id] += 2 * ks * std::abs(w) * lever * lever / Imin;
+		}
+
+		// the interactions ahead, and what they point to (FlexTuning.hpp)
+		void fetchAhead(long li) const
+		{
+			using flexa::tuning::kAheadStepperObjects;
+			using flexa::tuning::kAheadStepperTargets;
+			if (li + kAheadStepperObjects < nI) flexa::prefetch(intrs[li + kAheadStepperObjects].get(), sizeof(Interaction));
+			if (li + kAheadStepperTargets < nI) {
+				const Interaction* J = intrs[li + kAheadStepperTargets].get();
 				if (J->geom) flexa::prefetch(J->geom.get(), sizeof(FlexContactGeom));
 				if (J->phys) flexa::prefetch(J->phys.get(), sizeof(FrictPhys));
 				else { // a potential pair: what is read of its two bodies (tables in id order)
@@ -396,66 +325,151 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 				}
 			}
 		}
-		const shared_ptr<Interaction>& I = intrs[li];
-		if (I->isReal()) {
-			const IPhys*         ip = I->phys.get();
+
+		// all Sides at once, in id order with the bodies' bounds and states asked for ahead
+		void computeSides(int nThreads)
+		{
+			sides.assign(sb.size(), Side());
+			const shared_ptr<Body>* body = scene->bodies->body.data();
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(nThreads)
+#endif
+			for (long id = 0; id < (long)nb; ++id) {
+				flexa::prefetchBodiesAhead(body, (long)nb, id, [](const Body& c) {
+					flexa::prefetch(c.bound.get(), sizeof(Aabb));
+					if (const State* st = c.state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
+				});
+				sideOf((Body::id_t)id);
+			}
+		}
+		const Side& sideOf(Body::id_t id)
+		{
+			Side& sd = sides[id];
+			if (sd.state) return sd;
+			sd.state      = -1;
+			const Body* b = scene->bodies->body[id].get();
+			if (!b || !b->bound) return sd;
+			const Real            sweep = b->bound->sweepLength;
+			const flexa::Element& el    = sb[id].el;
+			if (el.nNodes) {
+				const Vector3r* ref[3] { nullptr, nullptr, nullptr };
+				if (el.cyl) {
+					ref[0] = &el.cyl->boundRef1;
+					ref[1] = &el.cyl->boundRef2;
+				} else {
+					ref[0] = &el.fac->boundRef1;
+					ref[1] = &el.fac->boundRef2;
+					ref[2] = &el.fac->boundRef3;
+				}
+				for (int a = 0; a < el.nNodes; ++a) {
+					const State* st = flexa::stateOf(scene, el.nodes[a]);
+					if (!st) return sd;
+					sd.x[a]  = st->pos;
+					sd.reach = std::max(sd.reach, flex::reachableDistance(sd.x[a], *ref[a], sweep));
+					sd.size  = std::max(sd.size, sd.x[a].cwiseAbs().maxCoeff());
+				}
+				sd.n = el.nNodes;
+			} else if (sb[id].sphere) {
+				sd.x[0]  = b->state->pos;
+				sd.reach = flex::reachableDistance(sd.x[0], b->bound->refPos, sweep);
+				sd.size  = sd.x[0].cwiseAbs().maxCoeff();
+				sd.n     = 1;
+			} else
+				return sd;
+			sd.state = 1;
+			return sd;
+		}
+		bool cannotTouchBeforeCollider(Body::id_t i1, Body::id_t i2) const
+		{
+			const Side &s1 = sides[i1], &s2 = sides[i2]; // (all computed before the pass)
+			if (s1.state < 0 || s2.state < 0) return false;
+			const int       n1 = s1.n, n2 = s2.n;
+			const Vector3r *x1 = s1.x, *x2 = s2.x;
+			const Real      reach1 = s1.reach, reach2 = s2.reach, size = std::max(s1.size, s2.size);
+			// cheap first: the points' boxes farther apart than both radii and both reaches
+			Vector3r p[6];
+			for (int a = 0; a < n1; ++a)
+				p[a] = x1[a];
+			for (int a = 0; a < n2; ++a)
+				p[n1 + a] = x2[a];
+			const Real reachAll = sb[i1].radius + sb[i2].radius + reach1 + reach2;
+			if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, reachAll))) return true;
+			// a point or segment and a triangle: the plane test next (a wire or grain beside a
+			// lining), before the exact distance
+			if (n2 == 3 && n1 < 3 && flex::segmentTriangleApart(x1[0], x1[n1 - 1], x2[0], x2[1], x2[2], reachAll)) return true;
+			if (n1 == 3 && n2 < 3 && flex::segmentTriangleApart(x2[0], x2[n2 - 1], x1[0], x1[1], x1[2], reachAll)) return true;
+			const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
+			return flex::cannotTouch(gap, reach1, reach2, size);
+		}
+
+		// The rows of a pair that may carry a contact before the next estimate (a potential pair,
+		// or a contact not carrying force now), at its worst position (flex::potentialContactRows):
+		// each side's DOF bodies are an element's nodes, else the body itself.
+		void potentialRows(Real* rowOut, Real* rotOut, Body::id_t i1, Body::id_t i2, Real kn, Real ks) const
+		{
+			const StepBody* bs[2] = { &sb[i1], &sb[i2] };
+			Real            r[2]  = { bs[0]->radius, bs[1]->radius };
+			if (r[0] <= 0) r[0] = r[1];
+			if (r[1] <= 0) r[1] = r[0];
+			Body::id_t       ids[2][3];
+			flex::RowSide    side[2];
+			const Body::id_t self[2] = { i1, i2 };
+			for (int s = 0; s < 2; ++s) {
+				const flexa::Element& el = bs[s]->el;
+				side[s].kappa            = el.fac ? bs[s]->kappa : 0;
+				side[s].n                = el.nNodes ? el.nNodes : 1;
+				for (int a = 0; a < side[s].n; ++a) {
+					ids[s][a]              = el.nNodes ? el.nodes[a] : self[s];
+					side[s].invSqrtMass[a] = invSqrtMass(ids[s][a]);
+				}
+			}
+			Real rows[2][3];
+			flex::potentialContactRows(side[0], side[1], std::max(kn, ks), rows[0], rows[1]);
+			for (int s = 0; s < 2; ++s)
+				for (int a = 0; a < side[s].n; ++a) {
+					if (side[s].invSqrtMass[a] == 0) continue;
+					rowOut[ids[s][a]] += rows[s][a];
+					if (!bs[s]->el.fac) addRot(rotOut, ids[s][a], ks, 1, r[s]);
+				}
+		}
+
+		// A real contact: its own stiffness on the bodies that carry its two sides (ContactSide),
+		// rolling resistance, and a contact not carrying force counted as a potential pair.
+		void realContactRows(const Interaction& I, Real* myRow, Real* myRot) const
+		{
+			const IPhys*         ip = I.phys.get();
 			const FrictPhys*     fp = flexa::fastCast<FrictPhys>(ip);
 			const NormShearPhys* ph = fp ? fp : dynamic_cast<const NormShearPhys*>(ip);
-			if (!ph) continue;
-			const FlexContactGeom* fg = flexa::fastCast<FlexContactGeom>(I->geom.get());
+			if (!ph) return;
+			const FlexContactGeom* fg = flexa::fastCast<FlexContactGeom>(I.geom.get());
 			if (law && law->rollingStiffness > 0)
 				if (const FlexContactGeom* g = fg)
 					if (fp) {
 						const Real kr = law->rollingK(*g, *fp);
 						if (kr > 0) { // 2 kr / I on each side (Gershgorin row of the coupled pair)
-							addRot(myRot, I->getId1(), kr, 1, 1);
-							addRot(myRot, I->getId2(), kr, 1, 1);
+							addRot(myRot, I.getId1(), kr, 1, 1);
+							addRot(myRot, I.getId2(), kr, 1, 1);
 						}
 					}
-			const Real k = std::max(ph->kn, ph->ks);
-			struct Entry {
-				Body::id_t id;
-				Real       w, lever;
-			} e[6];
-			int ne = 0;
+			const Real                 k = std::max(ph->kn, ph->ks);
+			flexa::ContactSide::Entry e[6];
+			int                        ne = 0;
 			if (const FlexContactGeom* g = fg) {
 				// a contact that is not carrying force (it separated this step, or another contact
 				// of its cluster owns the force) can carry it again at the next step, before the
 				// next estimate: it counts with the worst weights of a potential pair
 				if (!g->active) {
-					const Body::id_t i1 = I->getId1(), i2 = I->getId2();
+					const Body::id_t i1 = I.getId1(), i2 = I.getId2();
 					if (i1 >= 0 && i2 >= 0 && i1 < nb && i2 < nb) potentialRows(myRow, myRot, i1, i2, ph->kn, ph->ks);
-					continue;
+					return;
 				}
-				const Vector2i*  nodes[2] = { &g->nodes1, &g->nodes2 };
-				const Vector3i*  tris[2]  = { &g->tri1, &g->tri2 };
-				const Vector3r*  bary[2]  = { &g->bary1, &g->bary2 };
-				const Real       us[2] = { g->u1, g->u2 }, rs[2] = { g->refR1, g->refR2 };
-				const Body::id_t ids[2] = { I->getId1(), I->getId2() };
-				for (int s = 0; s < 2; ++s) {
-					if ((*tris[s])[0] >= 0) {
-						// facet: forces only, each node's share bounded by w_a + (load factor - 1)
-						Vector3r x[3];
-						bool     ok = true;
-						for (int a = 0; a < 3 && ok; ++a) {
-							const State* st = flexa::stateOf(scene, (*tris[s])[a]);
-							if ((ok = st != nullptr)) x[a] = st->pos;
-						}
-						const Real extra = ok ? flex::triangleLoadFactor(x, rs[s]) - 1 : 0;
-						for (int a = 0; a < 3; ++a)
-							e[ne++] = { (*tris[s])[a], (*bary[s])[a] + extra, 0 };
-					} else if ((*nodes[s])[0] < 0)
-						e[ne++] = { ids[s], 1, rs[s] };
-					else {
-						e[ne++] = { (*nodes[s])[0], 1 - us[s], rs[s] };
-						e[ne++] = { (*nodes[s])[1], us[s], rs[s] };
-					}
-				}
-			} else if (const GenericSpheresContact* g = dynamic_cast<const GenericSpheresContact*>(I->geom.get())) {
-				e[ne++] = { I->getId1(), 1, g->refR1 };
-				e[ne++] = { I->getId2(), 1, g->refR2 };
+				ne += flexa::ContactSide::of(*g, 1, I.getId1()).timeStepEntries(scene, e + ne);
+				ne += flexa::ContactSide::of(*g, 2, I.getId2()).timeStepEntries(scene, e + ne);
+			} else if (const GenericSpheresContact* g = dynamic_cast<const GenericSpheresContact*>(I.geom.get())) {
+				e[ne++] = { I.getId1(), 1, g->refR1 };
+				e[ne++] = { I.getId2(), 1, g->refR2 };
 			} else
-				continue;
+				return;
 			Real w[6], ia[6], rows[6];
 			for (int a = 0; a < ne; ++a) {
 				w[a]  = e[a].w;
@@ -467,51 +481,39 @@ Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body:
 				myRow[e[a].id] += rows[a];
 				addRot(myRot, e[a].id, ph->ks, e[a].w, e[a].lever);
 			}
-			continue;
 		}
-		// potential contact
-		if (!I->functorCache.geomExists) continue; // bonded neighbours: never a contact
-		const Body::id_t i1 = I->getId1(), i2 = I->getId2();
-		if (i1 < 0 || i2 < 0 || i1 >= nb || i2 >= nb) continue;
-		const StepBody* bs[2] = { &sb[i1], &sb[i2] };
-		if (!bs[0]->mat || !bs[1]->mat || !bs[0]->shaped || !bs[1]->shaped) continue; // (no body: no material, no shape)
-		Real r1 = bs[0]->radius, r2 = bs[1]->radius;
-		if (r1 <= 0) r1 = r2;
-		if (r2 <= 0) r2 = r1;
-		if (!(r1 > 0)) continue;
-		if (canSkip && cannotTouchBeforeCollider(i1, i2)) {
-			++skipped;
-			if (skippedOut) skippedOut->emplace_back(i1, i2);
-			if (mark && I->linIx >= 0 && (size_t)I->linIx < marks.pair.size()) marks.pair[I->linIx] = std::make_pair(i1, i2);
-			continue;
+
+		// A potential pair: the stiffness Ip2_FrictMat_FrictMat_FrictPhys will give it, unless it
+		// cannot touch before the collider runs again. Returns 1 if it was left out, else 0.
+		long potentialPairRows(const Interaction& I, Real* myRow, Real* myRot)
+		{
+			if (!I.functorCache.geomExists) return 0; // bonded neighbours: never a contact
+			const Body::id_t i1 = I.getId1(), i2 = I.getId2();
+			if (i1 < 0 || i2 < 0 || i1 >= nb || i2 >= nb) return 0;
+			const StepBody* bs[2] = { &sb[i1], &sb[i2] };
+			if (!bs[0]->mat || !bs[1]->mat || !bs[0]->shaped || !bs[1]->shaped) return 0; // (no body: no material, no shape)
+			Real r1 = bs[0]->radius, r2 = bs[1]->radius;
+			if (r1 <= 0) r1 = r2;
+			if (r2 <= 0) r2 = r1;
+			if (!(r1 > 0)) return 0;
+			if (canSkip && cannotTouchBeforeCollider(i1, i2)) {
+				if (skippedOut) skippedOut->emplace_back(i1, i2);
+				if (mark && I.linIx >= 0 && (size_t)I.linIx < marks.pair.size()) marks.pair[I.linIx] = std::make_pair(i1, i2);
+				return 1;
+			}
+			const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
+			const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
+			const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
+			potentialRows(myRow, myRot, i1, i2, kn, ks);
+			return 0;
 		}
-		const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
-		const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
-		const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
-		potentialRows(myRow, myRot, i1, i2, kn, ks);
-	}
-	} // omp parallel
-	for (int t = 1; t < nThreads; ++t)
-		for (size_t i = 0; i < sb.size(); ++i) {
-			row[i] += moreRows[2 * (t - 1)][i];
-			rowRot[i] += moreRows[2 * (t - 1) + 1][i];
-		}
-	skippedCache = skipped;
-	if (mark) {
-		if (canSkip) {
-			marks.scene                              = scene;
-			scene->interactions->iterColliderLastRun = flexa::kMarksValid; // until a collider runs
-		} else if (scene->interactions->iterColliderLastRun == flexa::kMarksValid)
-			scene->interactions->iterColliderLastRun = -1;
-	}
-	Real w2             = 0;
-	stiffestContactBody = -1;
-	for (size_t i = 0; i < row.size(); ++i)
-		if (std::max(row[i], rowRot[i]) > w2) {
-			w2                   = std::max(row[i], rowRot[i]);
-			stiffestContactBody = (Body::id_t)i;
-		}
-	return w2;
+	};
+} // namespace
+
+Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut, bool mark) const
+{
+	ContactRowsPass pass(scene, prefetch, skipUnreachable, mark, skippedOut);
+	return pass.run(stiffestContactBody, skippedCache);
 }
 
 // Cundall's non-viscous damping (NewtonIntegrator.damping = c) multiplies each acceleration
@@ -546,7 +548,7 @@ void FlexTimeStepper::action()
 	const bool   changed = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
 	lastInteractionCount = nIntr;
 	lastColliderRuns     = colliderRuns;
-	if (!markUnreachable && scene->interactions->iterColliderLastRun == flexa::kMarksValid) scene->interactions->iterColliderLastRun = -1; // switched off: retire the marks
+	if (!markUnreachable && flexa::unreachableMarks().scene == scene) flexa::unreachableMarks().scene = nullptr; // switched off: retire the marks
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
 	dtCritical           = criticalImpl(markUnreachable);
 	stiffestBody         = stiffestCache;

@@ -15,15 +15,15 @@ CONTACT_RATIO = C.Range(0.0, 1.0, note="ks/kn")
 
 def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_ratio=0.25,
                   tension_only=False, yield_stress=math.inf, hardening=0.0,
-                  tensile_strength=math.inf, rupture_strain=math.inf, bending_factor=1.0, label="", contact_young=None):
+                  tensile_strength=math.inf, rupture_strain=math.inf, bending_factor=1.0, label="", element_young=None):
     """A FlexMat, validated.
 
-    young [Pa] element Young's modulus (also the contact stiffness scale); density [kg/m3];
+    young [Pa]: Young's modulus, FlexMat.young: of the contacts, and of the elements unless
+    element_young [Pa] is given (FlexMat.elementYoung; a contact modulus below the elements'
+    lengthens the time step of stiff wire contacts); density [kg/m3];
     friction_deg [deg] contact friction angle; beam_poisson [-] for G = E/(2(1+nu));
     contact_ratio [-] ks/kn of contacts (FrictMat.poisson); yield_stress, tensile_strength [Pa];
-    hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ;
-    contact_young [Pa]: contact modulus if it differs from young (None: young). young stays the
-    element's modulus; a lower contact modulus lengthens the time step of stiff wire contacts.
+    hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ.
     """
     young = C.number("young", young, MODULUS)
     density = C.number("density", density, DENSITY)
@@ -38,22 +38,29 @@ def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_r
     tension_only = C.boolean("tension_only", tension_only)
     if not isinstance(label, str):
         raise C.BadValue("label", label, "a string")
-    if contact_young is not None:
-        C.number("contact_young", contact_young, MODULUS)
-    m = FlexMat(young=young if contact_young is None else contact_young, density=density, frictionAngle=math.radians(friction_deg),
+    if element_young is not None:
+        C.number("element_young", element_young, MODULUS)
+    m = FlexMat(young=young, density=density, frictionAngle=math.radians(friction_deg),
                    beamPoisson=beam_poisson, poisson=contact_ratio, tensionOnly=tension_only,
                    yieldStress=yield_stress, hardening=hardening, tensileStrength=tensile_strength,
                    ruptureStrain=rupture_strain, bendingFactor=bending_factor, label=label)
-    if contact_young is not None:
-        m.elementYoung = young
+    if element_young is not None:
+        m.elementYoung = element_young
     return m
 
 
+STEEL_YOUNG = 200e9  # [Pa] EN 1993-1-1, 3.2.6
+
+
 def steel(label="steel", **kw):
-    """Structural steel bar: E = 200 GPa, rho = 7850 kg/m3, nu = 0.3 (EN 1993-1-1, 3.2.6)."""
-    args = dict(young=200e9, density=7850.0, beam_poisson=0.3, label=label)
+    """Structural steel bar: E = STEEL_YOUNG, rho = 7850 kg/m3, nu = 0.3 (EN 1993-1-1, 3.2.6).
+    Softer contacts on steel elements: steel(young=E_contact, element_young=STEEL_YOUNG)."""
+    args = dict(young=STEEL_YOUNG, density=7850.0, beam_poisson=0.3, label=label)
     args.update(kw)
     return flex_material(**args)
+
+
+ROPE_6X7_YOUNG = 96e9 * 24.32e-6 / (math.pi * 0.004 ** 2)  # [Pa] E x metallic / nominal area (below)
 
 
 def rope_6x7_8mm(label="rope6x7", **kw):
@@ -66,8 +73,7 @@ def rope_6x7_8mm(label="rope6x7", **kw):
     strands (bending_factor 0.05, an assumption to revisit with a bending test).
     """
     a_nom = math.pi * 0.004 ** 2
-    a_met = 24.32e-6
-    args = dict(young=96e9 * a_met / a_nom, density=0.221 / a_nom, tension_only=True,
+    args = dict(young=ROPE_6X7_YOUNG, density=0.221 / a_nom, tension_only=True,
                 tensile_strength=37.6e3 / a_nom, bending_factor=0.05, label=label)
     args.update(kw)
     return flex_material(**args)

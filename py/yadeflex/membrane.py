@@ -19,18 +19,18 @@ from .materials import MODULUS, FRICTION_DEG, CONTACT_RATIO
 
 
 def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, strength=math.inf,
-                      contact_young=1e9, friction_deg=30.0, contact_ratio=0.25, label=""):
+                      young=1e9, friction_deg=30.0, contact_ratio=0.25, label=""):
     """A FlexMembraneMat, validated.
 
     stiffness [N/m]: tensile stiffness E t of the membrane; areal_density [kg/m2]; poisson [-];
     tension_only: the fabric wrinkles instead of taking compression; strength [N/m]: a facet
     ruptures when its larger principal membrane force reaches it (inf: never);
-    contact_young [Pa]: contact modulus (contact kn = 2 E1 r1 E2 r2 / (E1 r1 + E2 r2) with r the
+    young [Pa]: contact modulus, FlexMembraneMat.young (contact kn = 2 E1 r1 E2 r2 / (E1 r1 + E2 r2) with r the
     facet's half thickness); friction_deg [deg]; contact_ratio [-] ks/kn of contacts.
     """
     C.number("membrane stiffness", stiffness, C.Range(0.0, 1e9, "N/m", lo_open=True, note="E t; steel sheet 1 mm: 2e8"))
     C.number("areal_density", areal_density, C.Range(0.0, 1e3, "kg/m2", lo_open=True))
-    C.number("contact_young", contact_young, MODULUS)
+    C.number("young", young, MODULUS)
     # the time step's stretch bound (membraneStretchFactor) needs nu >= 0
     C.number("poisson", poisson, C.Range(0.0, 0.5, hi_open=True))
     if strength != math.inf:
@@ -41,7 +41,7 @@ def membrane_material(stiffness, areal_density, poisson=0.3, tension_only=True, 
     if not isinstance(label, str):
         raise C.BadValue("label", label, "a string")
     return FlexMembraneMat(stiffness=stiffness, arealDensity=areal_density, membranePoisson=poisson,
-                           tensionOnly=bool(tension_only), strength=strength, young=contact_young,
+                           tensionOnly=bool(tension_only), strength=strength, young=young,
                            poisson=contact_ratio, frictionAngle=math.radians(friction_deg),
                            density=areal_density / 0.002, label=label)
 

@@ -412,15 +412,15 @@ def build_filled(params, progress=None):
     r_lin, r_in = fill_radii(params)
     wall, grains, ke_tol = settle_fill(params, r_in, rnd, progress)
     # --- stage 2: the structure around the fill
-    from .wire import tecco_wire
-    wire = tecco_wire(seed=params.seed, contact_young=params.steel_contact_young)
+    from .wire import TECCO_WIRE_YOUNG, tecco_wire
+    wire = tecco_wire(seed=params.seed, young=params.steel_contact_young, element_young=TECCO_WIRE_YOUNG)
     O.materials.append(wire)
-    from .materials import steel
-    ring_mat = steel(label="ring_steel", friction_deg=30.0, contact_young=params.steel_contact_young)
+    from .materials import STEEL_YOUNG, steel
+    ring_mat = steel(label="ring_steel", friction_deg=30.0, young=params.steel_contact_young, element_young=STEEL_YOUNG)
     # contact modulus 3e9 Pa: kn = E r = 3e6 N/m for the 1 mm half thickness, so that the
     # lining pressed by grains against the wires and rings stays out of them (at 1e9 three modules
     # closed their energy balance to 35% only; 1e10 costs 2.4x in time step)
-    gtx = M.geotextile(friction_deg=30.0, contact_young=3e9) if params.lining else None
+    gtx = M.geotextile(friction_deg=30.0, young=3e9) if params.lining else None
     per = []
     for cx, cy in params.centers():
         mesh = chain_link_cylinder(params.diameter, H, wire, center=(cx, cy, 0))
@@ -439,9 +439,9 @@ def build_filled(params, progress=None):
                         base_nodes=sorted(set(mesh["edges"]["bottom"]) | set(lin["bottom"] if lin else [])), mesh_params=mesh["params"]))
     rope = dict(nodes=[], cylinders=[])
     if params.with_rope():
-        from .materials import rope_6x7_8mm
+        from .materials import ROPE_6X7_YOUNG, rope_6x7_8mm
         from .rope import rope_around
-        rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(contact_young=params.steel_contact_young))
+        rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(young=params.steel_contact_young, element_young=ROPE_6X7_YOUNG))
         rope = dict(nodes=rn, cylinders=rc)
     O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
     # the structure settles onto the fill: the mesh takes up its slack, a creep that local

@@ -28,17 +28,20 @@ def _min_contact_radius():
 
 DAMPING = C.Range(0.0, 1.0, hi_open=True, note="local damping")
 TIMESTEP_SAFETY = C.Range(0.0, 1.0, lo_open=True, note="x the critical step")
+# the one default of the time-step safety: FlexTimeStepper.safety's (scenes and engines() use it;
+# the damping module states its own, ModuleParams.timestep_safety, with its measured margin)
+DEFAULT_TIMESTEP_SAFETY = FlexTimeStepper().safety
 ROLLING_FRICTION = C.Range(0.0, 1.0, note="rolling moment / (normal force x radius)")
 
 
-def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5):
+def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
     """(gravity Vector3, damping, timestep_safety) checked as engines() checks them: scenes
     check them before they build anything."""
     return (check_finite("gravity", gravity), C.number("damping", damping, DAMPING),
             C.number("timestep_safety", timestep_safety, TIMESTEP_SAFETY))
 
 
-def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
+def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
             rolling_stiffness=0.0, rolling_friction=0.0, guard=False):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
@@ -48,8 +51,8 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5, timestep_in
     cylinder or sphere radius in the scene; 0.25 r runs the collider 60% more often on a
     net impact, 1-2 r gains nothing more, measured). The time step is set by FlexTimeStepper
     to timestep_safety x the critical step: stability needs < 1, accuracy of stiff, short
-    contacts needs less (the energy residual of scenes.wire_and_ring: 5% at 0.8, 0.47% at 0.5,
-    0.24% at 0.3, measured), hence 0.5. flex_sphere_contacts: sphere-sphere contacts use
+    contacts needs less (the energy residual of scenes.wire_and_ring falls tenfold from 0.8 to
+    0.5), hence DEFAULT_TIMESTEP_SAFETY = 0.5, FlexTimeStepper.safety's default. flex_sphere_contacts: sphere-sphere contacts use
     yade-flex's contact geometry and law (friction dissipation consistent with the leap-frog
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
     The loop over interactions is FlexInteractionLoop: YADE's InteractionLoop with the same

@@ -197,7 +197,7 @@ def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=
     C.integer("timestep_interval", timestep_interval, 1, 10 ** 9)
     engine_args((0, 0, 9.81), 0.0, timestep_safety)
     O.reset()
-    mat = flex_material(young=element_young, density=7850.0, friction_deg=friction_deg, contact_young=contact_young)
+    mat = flex_material(young=contact_young, element_young=element_young, density=7850.0, friction_deg=friction_deg)
     half = 0.5 * length
     z = support_radius + radius + drop
     nodes, cyls = B.chain([(-half, 0, z), (half, 0, z)], radius, mat, segments=segments)

@@ -92,7 +92,7 @@ def sheet(scale=1.0, t_end=0.15):
     250 kN/m x scale, 0.3 kg/m2), sphere r = 0.1 m released 10 mm above it; contact moduli of
     the sheet and the sphere x scale."""
     orig = M.membrane_material
-    M.membrane_material = functools.partial(orig, contact_young=1e9 * scale)
+    M.membrane_material = functools.partial(orig, young=1e9 * scale)
     try:
         s = membrane_scenes.sheet_impact(stiffness=250e3 * scale)
     finally:

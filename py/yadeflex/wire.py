@@ -18,13 +18,14 @@ from .materials import flex_material
 TECCO_WIRE_STRAIN = (0.0070, 0.0100, 0.0200, 0.0500)  # [-]
 TECCO_WIRE_STRESS = (1.400e9, 1.600e9, 1.720e9, 1.770e9)  # [Pa]
 TECCO_WIRE_DIAMETER = 0.003  # [m]
+TECCO_WIRE_YOUNG = TECCO_WIRE_STRESS[0] / TECCO_WIRE_STRAIN[0]  # [Pa] the curve's first slope
 
 
 def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, force_ratio=1.0, seed=12345,
-                  friction_deg=30.0, contact_ratio=0.25, beam_poisson=0.3, bending_factor=1.0, label="", contact_young=None):
+                  friction_deg=30.0, contact_ratio=0.25, beam_poisson=0.3, bending_factor=1.0, label="", element_young=None):
     """FlexMat with the wire law. strain [-], stress [Pa]: the curve's points (origin implied);
-    young [Pa]: bending stiffness, and contact stiffness unless contact_young [Pa] is given
-    (default: the curve's first slope); density
+    young [Pa]: FlexMat.young, the contacts' modulus and the links' (bending) unless
+    element_young [Pa] is given (default: the curve's first slope); density
     [kg/m3]; slack_scale [-], force_ratio [-], seed: distortion (see module doc);
     bending_factor [-]: bending and twist stiffness relative to a solid wire. 1 (default): beam
     links, so a knot transmits moments; 0: bar links, axial only, the knot a hinge (the model
@@ -41,7 +42,7 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
     C.integer("seed", seed, -2 ** 31, 2 ** 31 - 1)
     m = flex_material(young=young, density=density, friction_deg=friction_deg, beam_poisson=beam_poisson,
                       contact_ratio=contact_ratio, tension_only=True, bending_factor=bending_factor, label=label,
-                      contact_young=contact_young)
+                      element_young=element_young)
     m.wireStrain = e
     m.wireStress = s
     m.wireSlackScale = C.number("slack_scale", slack_scale, C.Range(0.0, 1.0, hi_open=True, note="slack strain of a link"))

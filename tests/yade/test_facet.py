@@ -21,7 +21,7 @@ DELTA = 1e-4                           # imposed overlap [m]
 
 
 def _fixed_mesh(points, tris, friction_deg=0.0):
-    mat = yf.membrane_material(20e3, 0.3, tension_only=False, contact_young=E_F, friction_deg=friction_deg)
+    mat = yf.membrane_material(20e3, 0.3, tension_only=False, young=E_F, friction_deg=friction_deg)
     return yf.triangle_mesh(points, tris, mat, 2 * RF, fixed=list(range(len(points))))
 
 
@@ -216,7 +216,7 @@ def test_rigid_rotation_no_force_no_slip(scene):
     """A loose membrane and a sphere pressed on it, moved together as one rigid body
     (positions rotated, velocities w x r) by 90 degrees: no membrane force, no shear, the
     same normal force."""
-    mat = yf.membrane_material(20e3, 0.3, tension_only=False, contact_young=E_F, friction_deg=30.0)
+    mat = yf.membrane_material(20e3, 0.3, tension_only=False, young=E_F, friction_deg=30.0)
     sh = yf.sheet(3, 3, (0.6, 0.6), 2 * RF, mat, fix_border=False)
     s = S.sphere((0.25, 0.33, R + RF - DELTA), R, young=E_S, friction_deg=30.0)
     ids = [n for row in sh["grid"] for n in row] + [s]
@@ -351,11 +351,11 @@ def test_segment_touching_a_convex_fold_contacts_analytic_force(scene, fold_deg)
 def test_bar_rocking_on_a_membrane_seam_starts_no_contact_deep(scene, angle_deg, v_rock):
     """A free steel bar lying across the seam of a flat two-facet membrane, rocking under gravity
     (no friction, no damping): its contacts with the facets are reached by motion, so each starts
-    within one step of approach (Law2...deepOnsets == 0) and the energy stays put. Before
-    2026-12-01 the pairs (bar, F1) and (bar, F2) were one contact whenever either closest point
-    on the facets lay on their shared edge, even with their points on the bar far apart (a line
-    contact): only the deeper pushed, the bar sank into the other facet with no force, and that
-    contact later started at its depth (1, 1 and 3 deep onsets in these three cases)."""
+    within one step of approach (Law2...deepOnsets == 0) and the energy stays put. A rule that
+    makes (bar, F1) and (bar, F2) one contact whenever either closest point on the facets lies on
+    their shared edge, even with their points on the bar far apart (a line contact), lets only the
+    deeper push: the bar sinks into the other facet with no force, and that contact later starts
+    at its depth (1, 1 and 3 deep onsets in these three cases)."""
     pts, tris = _roof(0)
     _fixed_mesh(pts, tris)
     rc, L = 0.005, 0.3
@@ -391,7 +391,7 @@ def test_wire_node_pushed_into_membrane_one_contact(scene):
     fill can press a mesh node into the lining): all three wires pierce the facet within 1e-4
     of their length from the node, at points a few um apart on their axes. One contact, not
     three: the probe (the facet point) lies on each wire's axis, where a contact normal is
-    undefined (found 2026-11-23 in the three-module scene, a lining node then thrown at 63 m/s)."""
+    undefined (seen in the three-module scene: a lining node thrown at 63 m/s)."""
     pts, tris = _roof(0)
     _fixed_mesh(pts, tris)
     steel = yf.steel(friction_deg=0.0)

@@ -91,7 +91,7 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
         assert (got[6] > 80) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs
         # pairs left out from their records, without their interaction objects (on by default): on
         # some step, at least 9 in 10 of the most pairs marked (most of them are remembered from the
-        # step before; 1,391 recalled of 1,325 marked and 194 rejected, 2026-12-03)
+        # step before; 1,391 recalled of 1,325 marked and 194 rejected)
         assert (got[7] >= 0.9 * ref[4]) if attrs.get("rememberSkips", True) else (got[7] == 0), attrs
     assert _run_from_saved(prefetch=False)[:3] == ref[:3]  # the integrator's and stepper's alone
     assert [e for e in O.engines if e.label == "newton"][0].usedFastPath  # (where the integrator prefetches)

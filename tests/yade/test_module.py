@@ -78,7 +78,7 @@ def test_energy_balance_closes(small_run):
     e = s["energy_end"]
     # where the impact energy went: friction and plasticity, not damping
     assert e["flexFriction"] > 0.3 * s["impact_energy"]
-    # contact hand-overs between elements pass their spring energy on (measured 2026-11-23: 7.5 J
+    # contact hand-overs between elements pass their spring energy on (measured: 7.5 J
     # in, 6.6 J out over about 150 each, net 0.09% of the impact energy); their net is part of
     # the residual and held to the same 2%
     assert s["deep_contact_onsets"] > 0 and s["deep_contact_endings"] > 0
@@ -104,11 +104,11 @@ def test_settled_fill_bears_on_the_lining(small_run, scene):
     grains settle in a rigid container inside the lining's flat facets, so they start the
     structure stage just clear of the lining; stopped on its kinetic energy alone, that stage
     left the default fill with no grain touching the lining, and the fill sank 2.5 mm once
-    released without damping (bench/fill_equilibrium.py, 2026-11-23). Bounds, from Rankine's
+    released without damping (bench/fill_equilibrium.py). Bounds, from Rankine's
     thrust K gamma H^2 / 2 on the lining's perimeter: at least the active thrust of a fill whose
     friction and rolling resistance act as a friction angle of 50 degrees (the lowest thrust a
     cohesionless fill stands against), at most the at-rest thrust, K0 = 1 - sin(phi), of its
-    own 38 degrees (a fill compacted against an unyielding wall). Measured 2026-11-23: 141 N on
+    own 38 degrees (a fill compacted against an unyielding wall). Measured: 141 N on
     this module (bounds 76 and 222 N), 1238 N on the default one (1016 and 2973 N), where the
     fill of the old stage gave 0."""
     import math
@@ -177,7 +177,7 @@ def test_tearing_impact_stays_stable_and_creates_no_energy(tmp_path):
 
 def test_three_modules_tied_by_a_rope(tmp_path):
     # dropped from 2 m: from the --small default of 1 m, whether the bulge reaches the rope
-    # depends on the fill (measured 2026-11-23 on three small modules: 318-403 N of rope force
+    # depends on the fill (measured on three small modules: 318-403 N of rope force
     # on the fill built at time-step safety 0.5, 0-27 N on the one built at 1.0, either hit at
     # 0.5x or 1.0x); from 2 m, 393 and 1066 N on the two fills
     r, _ = _run(tmp_path / "m", tmp_path / "cache", "--small", "--no-vtk", "--n-modules", 3, "--drop-height", 2)

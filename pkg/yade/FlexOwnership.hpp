@@ -1,0 +1,64 @@
+// yade-flex adapter: which element carries a contact, on the scene's bodies, and the shear a
+// contact takes over from the one that carried it before (GPL-2.0-or-later). The rule and its
+// reasons: kernel/Ownership.hpp.
+#pragma once
+#include "FlexElements.hpp"
+
+#include <utility>
+
+namespace yade {
+namespace flexa {
+	using flex::Hit;
+	using flex::segmentHit;
+	using flex::triangleHit;
+
+	/// Whether element `self` (body selfId) carries the contact of a probe sphere (P, R) whose
+	/// closest point on self is `hit`; if so, the other elements of its cluster are in `beaten`
+	/// (at most 8).
+	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
+	{
+		return flex::owns(SceneMesh { scene }, self, selfId, P, R, hit, beaten, nBeaten);
+	}
+	/// Whether the element pair (idA, idB) carries its cluster's contact; if so, the other pairs
+	/// are in `beaten` (A-side id, B-side id; at most 8).
+	inline bool ownsPair(const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
+	{
+		return flex::ownsPair(SceneMesh { scene }, idA, A, idB, B, beaten, nBeaten);
+	}
+
+	/// Shear force (on body 2 of I) that one of the `beaten` pairs (A-side id, B-side id; see
+	/// ownsPair) carried at the previous step; aIs1: whether I's body 1 is its A-side element.
+	inline bool takeOverPairShear(Scene* scene, bool aIs1, const std::pair<Body::id_t, Body::id_t>* beaten, int nBeaten, Vector3r& shear)
+	{
+		for (int k = 0; k < nBeaten; ++k) {
+			const shared_ptr<Interaction> J = scene->interactions->find(beaten[k].first, beaten[k].second);
+			if (!J || !J->geom || !J->phys) continue;
+			const FlexContactGeom* jg = dynamic_cast<const FlexContactGeom*>(J->geom.get());
+			const FrictPhys*       jp = dynamic_cast<const FrictPhys*>(J->phys.get());
+			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
+			const bool same = (J->getId1() == beaten[k].first) == aIs1;
+			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
+			return true;
+		}
+		return false;
+	}
+	/// Shear force (on body 2 of I) that the interaction between `otherBody` and one of the
+	/// `beaten` neighbours carried at the previous step, expressed for an interaction whose body 1
+	/// is id1. Only reads data its owner does not write this step (see Flex.hpp).
+	inline bool takeOverShear(Scene* scene, Body::id_t otherBody, Body::id_t id1, const Body::id_t* beaten, int nBeaten, Vector3r& shear)
+	{
+		for (int k = 0; k < nBeaten; ++k) {
+			const shared_ptr<Interaction> J = scene->interactions->find(otherBody, beaten[k]);
+			if (!J || !J->geom || !J->phys) continue;
+			const FlexContactGeom* jg = dynamic_cast<const FlexContactGeom*>(J->geom.get());
+			const FrictPhys*       jp = dynamic_cast<const FrictPhys*>(J->phys.get());
+			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
+			// shear is stored as the force on body 2: flip it if the other body sits on opposite sides
+			const bool same = (J->getId1() == otherBody) == (id1 == otherBody);
+			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
+			return true;
+		}
+		return false;
+	}
+} // namespace flexa
+} // namespace yade

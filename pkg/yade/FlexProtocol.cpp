@@ -1,0 +1,122 @@
+// yade-flex adapter: the collider and the engine order the engines rely on (GPL-2.0-or-later).
+// What and why: FlexProtocol.hpp.
+#include "FlexProtocol.hpp"
+#include "FlexFacet.hpp"
+
+#include <core/InteractionLoop.hpp>
+#include <pkg/common/InsertionSortCollider.hpp>
+
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <typeinfo>
+
+namespace yade {
+namespace flexa {
+	namespace {
+		// The engine list is checked against the one seen last (each engine's address and
+		// dynamic type, a pointer comparison each) and searched with dynamic_cast only when it
+		// changed (a dynamic_cast over the engines costs about 2,200 instructions per call).
+		struct EngineMemo {
+			const Scene*                                                 scene = nullptr;
+			std::vector<std::pair<const Engine*, const std::type_info*>> seen;
+			const Engine*                                                collider = nullptr; // (the list holds it)
+			bool                                                         orderChecked = false;
+			// true if the list is the one seen last; else remembers it and finds its collider
+			bool same(const Scene* s)
+			{
+				const auto& engines = s->engines;
+				bool        same    = scene == s && seen.size() == engines.size();
+				for (size_t i = 0; same && i < engines.size(); ++i) {
+					const Engine* e = engines[i].get();
+					same            = e == seen[i].first && (!e || &typeid(*e) == seen[i].second);
+				}
+				if (same) return true;
+				scene = s;
+				collider = nullptr;
+				orderChecked = false;
+				seen.clear();
+				for (const auto& e : engines) {
+					seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
+					if (dynamic_cast<const InsertionSortCollider*>(e.get())) collider = e.get(); // the last one
+				}
+				return false;
+			}
+		};
+		EngineMemo& memo()
+		{
+			thread_local EngineMemo m;
+			return m;
+		}
+
+		// The place of an engine in the order of FlexProtocol.hpp, -1: not part of it.
+		int rank(const Engine* e)
+		{
+			if (!e) return -1;
+			if (dynamic_cast<const InsertionSortCollider*>(e)) return 0;
+			if (dynamic_cast<const InteractionLoop*>(e)) return 1;
+			if (dynamic_cast<const FlexElementEngine*>(e)) return 2;
+			if (dynamic_cast<const FlexTimeStepper*>(e)) return 3;
+			if (dynamic_cast<const NewtonIntegrator*>(e)) return 4;
+			return -1;
+		}
+		std::string name(const Engine& e, size_t at)
+		{
+			std::ostringstream s;
+			s << e.getClassName();
+			if (!e.label.empty()) s << " (label '" << e.label << "')";
+			s << " at O.engines[" << at << "]";
+			return s.str();
+		}
+	}
+
+	long insertionSortColliderRuns(const Scene* scene)
+	{
+		EngineMemo& m = memo();
+		m.same(scene);
+		return m.collider ? static_cast<const InsertionSortCollider*>(m.collider)->numAction : -1;
+	}
+	shared_ptr<Engine> insertionSortCollider(const Scene* scene)
+	{
+		EngineMemo& m = memo();
+		m.same(scene);
+		for (const auto& e : scene->engines)
+			if (e.get() == m.collider && m.collider) return e;
+		return nullptr;
+	}
+
+	void checkEngineOrder(const Scene* scene)
+	{
+		EngineMemo& m = memo();
+		if (m.same(scene) && m.orderChecked) return;
+		const auto& engines = scene->engines;
+		int         best = -1;
+		size_t      at   = 0;
+		for (size_t i = 0; i < engines.size(); ++i) {
+			const int r = rank(engines[i].get());
+			if (r < 0) continue;
+			if (r < best) {
+				std::ostringstream s;
+				s << "O.engines: " << name(*engines[i], i) << " must come before " << name(*engines[at], at)
+				  << ": the yade-flex engines run in the order InsertionSortCollider, (Flex)InteractionLoop, FlexElementEngine, "
+				     "FlexTimeStepper, (Flex)NewtonIntegrator (yadeflex.engines() builds it)";
+				throw std::invalid_argument(s.str());
+			}
+			if (r > best) {
+				best = r;
+				at   = i;
+			}
+		}
+		m.orderChecked = true;
+	}
+
+	bool readsUnreachableMarks(const IGeomFunctor* f)
+	{
+		if (!f) return false;
+		const std::type_info& t = typeid(*f);
+		return t == typeid(Ig2_Sphere_Sphere_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexCylinder_FlexContactGeom)
+		        || t == typeid(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexFacet_FlexContactGeom)
+		        || t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
+	}
+} // namespace flexa
+} // namespace yade
