@@ -67,6 +67,24 @@ def drive_strains(scene, strains, steps_per_unit_strain=2e5, dt=None):
     return out_e, out_f, out_i
 
 
+def wire_through_knots(material, length=0.1, radius=0.0015, steps_per_unit_strain=4e4):
+    """A single wire of `material` (a FlexMat with a wire curve) driven to each point ('knot')
+    of its input curve in turn. Returns dict(strain, force: the driven record, worst: the largest
+    relative force error at the knots, engine: the scene's FlexElementEngine, scene)."""
+    s = single_wire(material, length=length, radius=radius)
+    O.trackEnergy = True
+    knots_e, knots_s = list(material.wireStrain), list(material.wireStress)
+    e, f, _ = drive_strains(s, knots_e, steps_per_unit_strain=steps_per_unit_strain)
+    A = math.pi * radius ** 2
+    worst = 0.0
+    for ek, sk in zip(knots_e, knots_s):
+        k = min(range(len(e)), key=lambda i: abs(e[i] - ek))
+        if abs(e[k] - ek) > 1e-12 or f[k] is None:
+            return dict(strain=e, force=f, worst=math.inf, scene=s)
+        worst = max(worst, abs(f[k] - sk * A) / (sk * A))
+    return dict(strain=e, force=f, worst=worst, scene=s)
+
+
 def _edge_force(ids, axis):
     return sum(O.forces.f(i)[axis] for i in ids)
 
