@@ -159,6 +159,21 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
                 unbalance_at_peak=unbalance[k_peak], iterations=O.iter, dt=O.dt)
 
 
+def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345, slack_scale=None):
+    """The TECCO G65/3 panel test of scripts/tensile_mesh.py and the validation report: a panel 1 m
+    long in the pulling direction and `width` [m] across it, the wire of yadeflex.wire.tecco_wire
+    (seed, slack_scale: None for its calibration), pulled at speed [m/s] to rupture
+    (mesh_tensile_test). Returns (scene, result, wall seconds)."""
+    import time
+    from .wire import tecco_wire
+    t = time.time()
+    mat = tecco_wire(seed=seed, slack_scale=slack_scale)
+    w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
+    s = mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat)
+    r = mesh_tensile_test(s, chunk=400, max_elongation=0.9)
+    return s, r, time.time() - t
+
+
 def write_curve(path_base, columns, xlabel, ylabel, title, x="elongation", y="force", reference=None, params=None):
     """Write path_base.csv (the columns, dict name -> list, in order) and path_base.png (y
     against x; reference: dict label -> (x, y) point or ('h', y) horizontal line), plus
