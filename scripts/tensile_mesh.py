@@ -4,9 +4,8 @@
 #   YADE_PREFIX=... PYTHONPATH=py yade-double -n -j1 -x scripts/tensile_mesh.py [OUTDIR] [--quick]
 import csv
 import sys
-import time
 
-from yadeflex import tensile, mesh, wire
+from yadeflex import tensile, mesh
 
 args = [a for a in sys.argv[1:] if not a.startswith("--")]
 out = args[0] if args else "validation/tensile"
@@ -26,14 +25,10 @@ if quick:
     cases = cases[:2]
 rows = []
 for name, direction, speed, seed, slack, width in cases:
-    t = time.time()
-    mat = wire.tecco_wire(seed=seed, slack_scale=slack)
-    w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
-    s = tensile.mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat)
-    r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.9)
-    rows.append(dict(case=name, direction=direction, loaded_width=s["loaded_width"], speed=speed, seed=seed, slack_scale=mat.wireSlackScale,
+    s, r, secs = tensile.tecco_panel_test(direction, width, speed, seed, slack)
+    rows.append(dict(case=name, direction=direction, loaded_width=s["loaded_width"], speed=speed, seed=seed, slack_scale=s["material"].wireSlackScale,
                      peak_kN_per_m=r["peak"] / 1e3, vs_datasheet=r["peak"] / REF - 1, elongation_at_peak=r["elongation_at_peak"],
-                     ruptured=r["ruptured"], edge_unbalance_at_peak=r["unbalance_at_peak"], steps=r["iterations"], seconds=time.time() - t))
+                     ruptured=r["ruptured"], edge_unbalance_at_peak=r["unbalance_at_peak"], steps=r["iterations"], seconds=secs))
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in rows[-1].items()), flush=True)
     tensile.write_curve(f"{out}/mesh_{name}", dict(elongation=r["elongation"], force_kN_per_m=[x / 1e3 for x in r["force_per_m"]]),
                         "elongation [-]", "force per metre width [kN/m]", f"TECCO G65/3, {name}", y="force_kN_per_m",

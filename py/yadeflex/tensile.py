@@ -67,6 +67,24 @@ def drive_strains(scene, strains, steps_per_unit_strain=2e5, dt=None):
     return out_e, out_f, out_i
 
 
+def wire_through_knots(material, length=0.1, radius=0.0015, steps_per_unit_strain=4e4):
+    """A single wire of `material` (a FlexMat with a wire curve) driven to each point ('knot')
+    of its input curve in turn. Returns dict(strain, force: the driven record, worst: the largest
+    relative force error at the knots, engine: the scene's FlexElementEngine, scene)."""
+    s = single_wire(material, length=length, radius=radius)
+    O.trackEnergy = True
+    knots_e, knots_s = list(material.wireStrain), list(material.wireStress)
+    e, f, _ = drive_strains(s, knots_e, steps_per_unit_strain=steps_per_unit_strain)
+    A = math.pi * radius ** 2
+    worst = 0.0
+    for ek, sk in zip(knots_e, knots_s):
+        k = min(range(len(e)), key=lambda i: abs(e[i] - ek))
+        if abs(e[k] - ek) > 1e-12 or f[k] is None:
+            return dict(strain=e, force=f, worst=math.inf, scene=s)
+        worst = max(worst, abs(f[k] - sk * A) / (sk * A))
+    return dict(strain=e, force=f, worst=worst, scene=s)
+
+
 def _edge_force(ids, axis):
     return sum(O.forces.f(i)[axis] for i in ids)
 
@@ -139,6 +157,21 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
     k_peak = fm.index(peak)
     return dict(elongation=el, force_per_m=fm, peak=peak, elongation_at_peak=e_peak, ruptured=eng.nRuptured,
                 unbalance_at_peak=unbalance[k_peak], iterations=O.iter, dt=O.dt)
+
+
+def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345, slack_scale=None):
+    """The TECCO G65/3 panel test of scripts/tensile_mesh.py and the validation report: a panel 1 m
+    long in the pulling direction and `width` [m] across it, the wire of yadeflex.wire.tecco_wire
+    (seed, slack_scale: None for its calibration), pulled at speed [m/s] to rupture
+    (mesh_tensile_test). Returns (scene, result, wall seconds)."""
+    import time
+    from .wire import tecco_wire
+    t = time.time()
+    mat = tecco_wire(seed=seed, slack_scale=slack_scale)
+    w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
+    s = mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat)
+    r = mesh_tensile_test(s, chunk=400, max_elongation=0.9)
+    return s, r, time.time() - t
 
 
 def write_curve(path_base, columns, xlabel, ylabel, title, x="elongation", y="force", reference=None, params=None):

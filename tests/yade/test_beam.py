@@ -5,7 +5,7 @@ import pytest
 from yade import O
 from yade.minieigenHP import Vector3
 
-from yadeflex import scenes
+from yadeflex import scenes, cases
 import yadeflex as yf
 from tol import assert_rel, circle_I, STEEL_E, STEEL_RHO, G
 
@@ -16,54 +16,36 @@ def _elements():
 
 
 def test_cantilever_tip_load_matches_PL3_over_3EI(scene):
-    L, r, P = 1.0, 0.01, 1.0  # small load: geometric nonlinearity ~ (delta/L)^2 ~ 1e-7
-    s = scenes.cantilever(segments=10, length=L, radius=r, load="tip", force=P)
-    scenes.settle([s["tip"]], rel_tol=1e-7)
-    w = -O.bodies[s["tip"]].state.pos[2]
-    assert_rel(w, P * L ** 3 / (3 * STEEL_E * circle_I(r)), 1e-3, "tip deflection, 10 segments")
+    # small load: geometric nonlinearity ~ (delta/L)^2 ~ 1e-7
+    r = cases.cantilever_deflection("tip", segments=10, length=1.0, radius=0.01, force=1.0)
+    assert r["reference"] == pytest.approx(1.0 / (3 * STEEL_E * circle_I(0.01)), rel=1e-12)
+    assert_rel(r["measured"], r["reference"], 1e-3, "tip deflection, 10 segments")
 
 
 def test_cantilever_self_weight_matches_qL4_over_8EI(scene):
-    L, r = 1.0, 0.01
-    s = scenes.cantilever(segments=10, length=L, radius=r, load="self", gravity=G)
-    scenes.settle([s["tip"]], rel_tol=1e-7)
-    w = -O.bodies[s["tip"]].state.pos[2]
-    q = STEEL_RHO * math.pi * r ** 2 * G
+    r = cases.cantilever_deflection("self", segments=10, length=1.0, radius=0.01)
+    q = STEEL_RHO * math.pi * 0.01 ** 2 * G
+    assert r["reference"] == pytest.approx(q / (8 * STEEL_E * circle_I(0.01)), rel=1e-12)
     # lumped loads omit only the tip moment q h^2/12 of the consistent load: error 1/(3 N^2)
-    assert_rel(w, q * L ** 4 / (8 * STEEL_E * circle_I(r)), 5e-3, "self-weight tip deflection, 10 segments")
+    assert_rel(r["measured"], r["reference"], 5e-3, "self-weight tip deflection, 10 segments")
 
 
 def test_axial_bar_stiffness_EA_over_L(scene):
-    L, r, P = 2.0, 0.004, 1000.0
-    s = scenes.cantilever(segments=5, length=L, radius=r, load="axial", force=P)
-    scenes.settle([s["tip"]], rel_tol=1e-7)
-    du = O.bodies[s["tip"]].state.pos[0] - L
-    assert_rel(du, P * L / (STEEL_E * math.pi * r ** 2), 1e-4, "bar elongation")
-    assert_rel(O.bodies[s["cylinders"][0]].shape.axialForce, P, 1e-4, "axial force")
+    L, rad, P = 2.0, 0.004, 1000.0
+    r = cases.cantilever_deflection("axial", segments=5, length=L, radius=rad, force=P)
+    assert r["reference"] == pytest.approx(P * L / (STEEL_E * math.pi * rad ** 2), rel=1e-12)
+    assert_rel(r["measured"], r["reference"], 1e-4, "bar elongation")
+    assert_rel(r["axial_force"], P, 1e-4, "axial force")
 
 
 def test_first_bending_frequency(scene):
-    L, r = 1.0, 0.01
-    s = scenes.cantilever(segments=10, length=L, radius=r, load="tip", force=1.0, damping=0.0)
     # static deflection under the tip load, then release: free vibration, mostly mode 1
-    O.engines[-1].damping = 0.8
-    scenes.settle([s["tip"]], rel_tol=1e-6)
-    O.engines[-1].damping = 0.0
-    O.forces.setPermF(s["tip"], Vector3(0, 0, 0))
-    tip = O.bodies[s["tip"]]
-    t, z = [], []
-    O.run(1, True)
-    t0 = O.time
-    while O.time < t0 + 0.5:
-        scenes.advance(50)  # ~90 samples per period
-        t.append(O.time)
-        z.append(tip.state.pos[2])
-    ups = [t[k - 1] + (t[k] - t[k - 1]) * (-z[k - 1]) / (z[k] - z[k - 1]) for k in range(1, len(z)) if z[k - 1] < 0 <= z[k]]
-    period = (ups[-1] - ups[0]) / (len(ups) - 1)
-    A, I = math.pi * r ** 2, circle_I(r)
-    omega1 = 1.875104 ** 2 * math.sqrt(STEEL_E * I / (STEEL_RHO * A * L ** 4))
-    assert len(ups) >= 4
-    assert_rel(2 * math.pi / period, omega1, 0.02, "first bending frequency")
+    L, rad = 1.0, 0.01
+    r = cases.first_bending_frequency(segments=10, length=L, radius=rad)
+    A, I = math.pi * rad ** 2, circle_I(rad)
+    assert r["reference"] == pytest.approx(1.875104 ** 2 * math.sqrt(STEEL_E * I / (STEEL_RHO * A * L ** 4)), rel=1e-12)
+    assert r["crossings"] >= 4
+    assert_rel(r["measured"], r["reference"], 0.02, "first bending frequency")
 
 
 def test_finite_rigid_rotation_creates_no_force(scene):

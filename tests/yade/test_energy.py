@@ -5,25 +5,12 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex import scenes
-from yadeflex.scenes import sphere
+from yadeflex import scenes, cases
 
 
 def _impact(friction_deg, vel):
-    mat = yf.steel(friction_deg=friction_deg)
-    nodes, cyls = yf.chain([(-0.5, 0, 0), (0.5, 0, 0)], 0.003, mat, segments=20, fixed=[0, 20])
-    R = 0.03
-    s = sphere((0.01, 0, R + 0.003 + 1e-4), R, density=7850, young=2e9, friction_deg=friction_deg, velocity=vel)
-    O.engines = yf.engines(damping=0.0)
-    O.trackEnergy = True
-    m = O.bodies[s].state.mass
-    e0 = 0.5 * m * Vector3(*vel).squaredNorm()
-    worst, touched = 0.0, False
-    while O.time < 0.03:
-        scenes.advance(20)
-        worst = max(worst, abs(O.energy.total() - e0))
-        touched = touched or bool(yf.contacts_on(s))
-    return e0, worst, touched
+    r = cases.sphere_wire_impact(friction_deg, vel)
+    return r["e0"], r["worst"], r["touched"]
 
 
 def test_undamped_elastic_sphere_wire_impact_conserves_energy(scene):

@@ -12,6 +12,7 @@ from yade.wrapper import ForceResetter, FlexElementEngine
 import yadeflex as yf
 import yadeflex.scenes as S
 import yadeflex.membrane_scenes as MS
+from yadeflex import cases
 from yadeflex.scene import engines
 
 R, RF = 0.1, 0.001                     # sphere radius, facet half thickness [m]
@@ -183,17 +184,7 @@ def test_pretensioned_square_point_load_vs_series(scene):
     a quarter side away from the load (the point itself is a log singularity of the
     theory). The mesh error of linear triangles is O(h^2): checked to fall by > 3x from 8
     to 16 cells, and to be < 1.5% at 16."""
-    errors = {}
-    for n in (8, 16):
-        sc = MS.pretensioned_square(n=n, load=1.0)
-        S.settle([sc["centre"]], rel_tol=1e-7, chunk=1000)
-        g, L = sc["sheet"]["grid"], sc["side"]
-        worst = 0
-        for (i, j) in [(n // 4, n // 2), (n // 4, n // 4), (n // 2, n // 4)]:
-            p = O.bodies[g[i][j]].state.pos
-            w = MS.square_membrane_deflection(p[0] + L / 2, p[1] + L / 2, L / 2, L / 2, 1.0, sc["tension"], L, terms=200)
-            worst = max(worst, abs(-p[2] / w - 1))
-        errors[n] = worst
+    errors = {n: cases.pretensioned_square(n)["measured"] for n in (8, 16)}
     assert errors[16] < 0.015, errors
     assert errors[16] < errors[8] / 3, errors
 
@@ -206,10 +197,9 @@ def test_clamped_circular_membrane_pressure_vs_foppl_hencky(scene):
     ref = MS.foppl_hencky_centre_deflection(100.0, 0.5, 20e3, 0.3)
     assert abs(ref / (0.5 * (100 * 0.5 / 20e3) ** (1 / 3)) - 0.6534) < 1e-3  # Hencky's coefficient for nu = 0.3
     for rings in (8, 12):
-        sc = MS.circular_membrane(rings=rings, pressure=100.0)
-        S.settle([sc["centre"]], rel_tol=1e-7, chunk=1000)
-        w0 = O.bodies[sc["centre"]].state.pos[2]
-        assert abs(w0 / ref - 1) < 0.01, (rings, w0, ref)
+        r = cases.circular_membrane(rings=rings, pressure=100.0)
+        assert r["reference"] == ref
+        assert abs(r["measured"] / ref - 1) < 0.01, (rings, r["measured"], ref)
 
 
 def test_rigid_rotation_no_force_no_slip(scene):

@@ -33,7 +33,7 @@ def small_run(tmp_path_factory):
     return base, r1, r2
 
 
-def test_outputs_exist_and_agree(small_run):
+def test_outputs_exist(small_run):
     base, r1, _ = small_run
     out = base / "a"
     for f in ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png"):
@@ -41,18 +41,62 @@ def test_outputs_exist_and_agree(small_run):
     s = json.loads((out / "summary.json").read_text())
     rows = list(csv.DictReader(open(out / "timeseries.csv")))
     assert len(rows) > 50
-    assert s["peak_impact_force"] == pytest.approx(max(float(r["impact_force"]) for r in rows))
-    assert s["penetration_max"] == pytest.approx(max(float(r["penetration"]) for r in rows))
     # the boulder was stopped: its speed fell from the impact speed to a rebound below it
     assert min(float(r["boulder_vz"]) for r in rows) < -0.9 * s["impact_speed_expected"]
     assert float(rows[-1]["boulder_vz"]) > -0.2 * s["impact_speed_expected"]
-    # the peak force decelerates the boulder: impulse of the impact force ~ momentum change
-    p = json.loads((out / "params.json").read_text())
-    m = p["boulder_mass"]
-    dt = [float(b["t"]) - float(a["t"]) for a, b in zip(rows, rows[1:])]
-    impulse = sum(d * (float(r["impact_force"]) - m * 9.81) for d, r in zip(dt, rows[1:]))
-    dv = float(rows[-1]["boulder_vz"]) - float(rows[0]["boulder_vz"])
-    assert impulse == pytest.approx(m * dv, rel=0.02)
+
+
+def test_recorded_impact_force_is_the_contact_force_on_the_boulder(small_run, scene, tmp_path, monkeypatch):
+    """The recorder derives the impact force from the boulder's velocity, m (dv/dt + g) over each
+    record interval. Checked here against an independent source: the forces the contact laws put
+    on the boulder's members (O.forces, read every step by a probe after the integrator), averaged over the
+    same interval. Without numerical damping the integrator's update is v += (F/m - g) dt, so the
+    two agree to round-off; a wrong mass, sign, gravity term, interval or peak in the recorder or
+    the summary breaks the agreement (the momentum balance of a row is an identity of the
+    recorder's own numbers and could not)."""
+    import __main__
+    from yade import O, PyRunner
+    from yadeflex import impact
+    from yadeflex.module import ModuleParams
+    base, _, _ = small_run
+    p = ModuleParams.small()
+    assert p.damping == 0.0
+    probe = dict(impulse=0.0, time=0.0, boulder=None)
+    windows = []  # (the recorded row's impact force, the probe's mean contact force over its interval)
+
+    def on_step():
+        if probe["boulder"] is not None:  # the cube is a clump: the laws put their forces on its members
+            probe["impulse"] += sum(O.forces.f(i)[2] for i in probe["boulder"]) * O.dt
+            probe["time"] += O.dt
+
+    monkeypatch.setattr(__main__, "_impact_force_probe", on_step, raising=False)
+    engines = ModuleParams.engines
+    monkeypatch.setattr(ModuleParams, "engines", lambda self, *a: engines(self, *a) + [PyRunner(command="_impact_force_probe()", iterPeriod=1)])
+    record = impact.ImpactRun._record
+
+    def recorded(run):
+        if probe["boulder"] is None:  # the first record of the impact: the probe starts from here
+            b = run.boulder
+            probe["boulder"] = list(b.shape.members.keys()) if b.isClump else [b.id]
+            ok = record(run)
+        else:
+            ok = record(run)
+            windows.append((run.rows.rows[-1]["impact_force"], probe["impulse"] / probe["time"]))
+        probe["impulse"] = probe["time"] = 0.0
+        return ok
+
+    monkeypatch.setattr(impact.ImpactRun, "_record", recorded)
+    s = impact.run_impact(p, str(tmp_path / "out"), cache_dir=str(base / "cache"), progress=False, no_vtk=True)
+    assert s["status"] == "done" and len(windows) > 50
+    m = s["peak_impact_force"] / s["peak_deceleration"]
+    assert m == pytest.approx(p.boulder_mass, rel=1e-12)
+    scale = max(f for _, f in windows)
+    assert scale > 10 * m * 9.81  # the boulder was stopped by the module
+    worst = max(abs(rec - probe_f) for rec, probe_f in windows)
+    # round-off of the velocity differences over a record (~1e-11 of the peak here); a gravity
+    # constant off by 0.1% in the recorder moves every row by m dg = 1 N, 2e-5 of the peak
+    assert worst <= 1e-9 * scale, f"recorded force differs from the contact force by {worst:.4g} N (peak {scale:.4g} N)"
+    assert s["peak_impact_force"] == pytest.approx(scale, rel=1e-9)
 
 
 def test_params_record_the_values_used(small_run):

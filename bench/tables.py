@@ -1,0 +1,113 @@
+# Regenerates the tables of bench/README.md that are copies of CSV files in bench/results: each sits
+# between the markers <!-- table:NAME --> and <!-- /table:NAME -->, and TABLES below says which CSV,
+# which rows and columns, and how each is formatted. Plain Python (no YADE).
+#
+#     python3 bench/tables.py            # rewrite the marked blocks in place
+#     python3 bench/tables.py --check    # exit 1 (and name them) if a block differs from its CSV
+import argparse
+import csv
+import os
+import re
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+SCENES = {"helix": "helix, 200 segments", "net": "net 20×20 + sphere at 5 m/s", "sheet": "sheet under a 5 kg sphere",
+          "bumpy": "sphere rolling over a fixed bumpy surface"}
+
+
+def fixed(digits):
+    return lambda v: f"{float(v):.{digits}f}"
+
+
+def times(digits):
+    return lambda v: f"{float(v):.{digits}f}x"
+
+
+def text(v):
+    return v
+
+
+def scene(v):
+    return SCENES.get(v, v)
+
+
+def _cantilever(rows):
+    """One row per (load, segments), the built-in and ours side by side."""
+    by = {}
+    for r in rows:
+        by.setdefault((r["load"], int(r["segments"])), {})[r["impl"]] = r
+    order = sorted(by, key=lambda k: (k[0] != "tip", k[1]))
+    return [dict(load=k[0], segments=str(k[1]), builtin=by[k]["builtin"]["ratio"], flex=by[k]["flex"]["ratio"]) for k in order]
+
+
+# name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
+TABLES = {
+    "cylinders_timing": dict(csv="cylinders_timing.csv", columns=[
+        ("scene", "scene", scene), ("-j", "threads", text), ("built-in µs/step", "builtin_us_per_step", fixed(1)),
+        ("yade-flex µs/step", "flex_us_per_step", fixed(1)), ("per step", "speedup_per_step", times(2)),
+        ("per simulated second", "speedup_per_simulated_second", times(1))]),
+    "cylinders_cantilever": dict(csv="cylinders_cantilever.csv", rows=_cantilever, columns=[
+        ("load", "load", text), ("segments", "segments", text), ("built-in", "builtin", fixed(5)), ("yade-flex", "flex", fixed(6))]),
+    "facets_timing": dict(csv="facets_timing.csv", columns=[
+        ("scene", "scene", scene), ("facets", "facets", text), ("built-in us/step", "builtin_us", lambda v: f"{float(v):.0f}"),
+        ("yade-flex us/step", "ours_us", fixed(1)), ("per step", "speedup", times(1)), ("per simulated second", "per_sim_second", times(1))]),
+}
+
+
+def table(name, results=os.path.join(HERE, "results")):
+    """The markdown lines of table `name` from its CSV."""
+    spec = TABLES[name]
+    with open(os.path.join(results, spec["csv"]), newline="") as f:
+        rows = list(csv.DictReader(f))
+    rows = spec.get("rows", lambda r: r)(rows)
+    cols = spec["columns"]
+    out = ["| " + " | ".join(h for h, _, _ in cols) + " |", "|" + "---|" * len(cols)]
+    out += ["| " + " | ".join(fmt(r[k]) for _, k, fmt in cols) + " |" for r in rows]
+    return out
+
+
+def regenerate(readme_text, results=os.path.join(HERE, "results")):
+    """readme_text with every marked block replaced by its table; returns (text, names changed).
+    A marker whose name TABLES does not know, or a block without its end marker, raises ValueError."""
+    changed = []
+
+    def sub(m):
+        name = m.group(1)
+        if name not in TABLES:
+            raise ValueError(f"bench/README.md: no table named {name!r} in bench/tables.py (known: {', '.join(TABLES)})")
+        new = "\n".join(table(name, results))
+        if m.group(2).strip("\n") != new:
+            changed.append(name)
+        return f"<!-- table:{name} -->\n{new}\n<!-- /table:{name} -->"
+
+    text = re.sub(r"<!-- table:([\w.-]+) -->\n(.*?)<!-- /table:\1 -->", sub, readme_text, flags=re.S)
+    opened = set(re.findall(r"<!-- table:([\w.-]+) -->", readme_text))
+    closed = set(re.findall(r"<!-- /table:([\w.-]+) -->", readme_text))
+    if opened != closed:
+        raise ValueError(f"bench/README.md: table markers without their pair: {', '.join(sorted(opened ^ closed))}")
+    return text, changed
+
+
+def main():
+    ap = argparse.ArgumentParser(description="Regenerate the CSV tables of bench/README.md.")
+    ap.add_argument("--check", action="store_true", help="only check: exit 1 if a table differs from its CSV")
+    ap.add_argument("--readme", default=os.path.join(HERE, "README.md"))
+    a = ap.parse_args()
+    with open(a.readme) as f:
+        old = f.read()
+    new, changed = regenerate(old)
+    if a.check:
+        if changed:
+            print(f"tables differing from their CSV: {', '.join(changed)} (python3 bench/tables.py rewrites them)")
+            sys.exit(1)
+        print("every marked table matches its CSV")
+        return
+    if new != old:
+        with open(a.readme, "w") as f:
+            f.write(new)
+    print(f"regenerated: {', '.join(changed) or 'nothing changed'}")
+
+
+if __name__ == "__main__":
+    main()
