@@ -19,6 +19,7 @@ from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 from .rope import rope_around
 from .output import VtkRecorder, write_vtk_snapshot, EnergyRecorder, read_csv, plot_timeseries, plot_energy
 from .view import view, snapshot, scene_box
+from . import parts
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",

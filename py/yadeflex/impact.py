@@ -218,7 +218,7 @@ class RunSettings:
     yadeflex.module_cli.RUN_LIMITS)."""
     duration: float = None         # [s] simulated time after the first contact; None: until the rebound + ImpactTimes' margin
     record_every: float = 2e-4     # [s] time-series interval (timeseries.csv, energy.csv)
-    vtk_every: float = 5e-3        # [s] VTK frame interval
+    vtk_every: float = 1e-3        # [s] VTK frame interval: a tenth of the shortest force pulse expected (10 ms), so the peak is in the frames
     no_vtk: bool = False           # no VTK time series
     min_dt_fraction: float = 0.01  # [-] stop when the time step falls below this fraction of its value at impact; 0: never
     max_residual: float = 0.02     # [-] largest accepted energy-balance residual, fraction of the impact energy (else EXIT["residual"])
@@ -316,8 +316,11 @@ class ImpactRun:
 
     def _impact(self):
         a = self.s
-        next_rec, next_vtk = self.start, self.start  # (on the grid from the start: every step records until it catches up)
-        vtk = None if a.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX)
+        # records on the grid from the start (every step records until it catches up); frames from the first contact on
+        next_rec, next_vtk = self.start, O.time
+        # the series' clock starts at the boulder's first contact (the CSVs' at the start of the run)
+        origin = self.start + (self.free_fall["t"] if self.free_fall else 0.0)
+        vtk = None if a.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX, time_origin=origin)
         ts = next(e for e in O.engines if e.label == "flexDt")
         guard = next((e for e in O.engines if type(e).__name__ == "FlexGuard"), None)
         while O.time < self.times.end:
