@@ -34,7 +34,8 @@ opens it with colours, tubes and glyphs set.
 part: which part of the structure the body is, yadeflex.parts.PARTS (0 other, 1 mesh, 2 ring,
 3 rope, 4 lining, 5 slab, 6 grain, 7 boulder); kind: 10 x the smaller part id + the larger (16
 mesh-grain, 46 lining-grain, 66 grain-grain, 67 grain-boulder, ...). A side's centre is a
-sphere's centre, the closest point on a cylinder's axis or a facet's midplane. Contacts are the
+sphere's centre, the closest point on a cylinder's axis or a facet's midplane, the contact point
+on a wall, YADE facet or box. Contacts are the
 real interactions with a normal force (handed-over FlexContactGeom contacts left out).
 broken: 1 for an element FlexElementEngine erased as ruptured (VtkRecorder only): it is kept in
 every later frame between its nodes' current positions, with its load fields (axialForce, n1,
@@ -237,12 +238,14 @@ def _clump_corners(b):
 
 def _contact_end(i, side):
     """Centre of one side of a contact: the axis point of a FlexContactGeom (a sphere's centre, the
-    closest point on a cylinder's axis or a facet's midplane), else the body's position."""
+    closest point on a cylinder's axis or a facet's midplane), else a sphere's centre, else (a
+    wall, a YADE facet, a box) the contact point."""
     g = i.geom
     p = getattr(g, "axis1" if side == 1 else "axis2", None)
     if p is not None:
         return tuple(p)
-    return tuple(O.bodies[i.id1 if side == 1 else i.id2].state.pos)
+    b = O.bodies[i.id1 if side == 1 else i.id2]
+    return tuple(b.state.pos if isinstance(b.shape, Sphere) else g.contactPoint)
 
 
 def real_contacts():

@@ -8,11 +8,11 @@ lining, slab, grains); scene_parts() reads that. A body named nowhere is a bould
 clump or a clump member, a grain if it is a sphere, the slab if it is a wall, else 'other'.
 The kind of a contact between parts a and b is 10 * min(a, b) + max(a, b): two digits naming
 both parts (16: mesh-grain, 66: grain-grain, 67: grain-boulder; contact_kind_name).
+
+PARTS, COLORS and the contact kinds need no YADE: the ParaView macro (run by pvpython) loads
+this file by its path; the functions that read the scene import YADE when called.
 """
 import json
-
-from yade import O
-from yade.wrapper import Sphere, Wall
 
 PARTS = ("other", "mesh", "ring", "rope", "lining", "slab", "grain", "boulder")
 PART = {name: k for k, name in enumerate(PARTS)}
@@ -47,6 +47,7 @@ def module_parts(ids):
 
 def scene_parts():
     """module_parts of the scene's module (O.tags['yadeflex_module']), or {} without one."""
+    from yade import O
     if "yadeflex_module" not in O.tags.keys():
         return {}
     return module_parts(json.loads(O.tags["yadeflex_module"]))
@@ -55,6 +56,7 @@ def scene_parts():
 def part_of(body, table):
     """Part id of a body (not None): table's (a dict from scene_parts or module_parts), else
     from its shape (see the module docstring)."""
+    from yade.wrapper import Sphere, Wall
     p = table.get(body.id)
     if p is not None:
         return p
