@@ -18,7 +18,7 @@ PARTS = ("other", "mesh", "ring", "rope", "lining", "slab", "grain", "boulder")
 PART = {name: k for k, name in enumerate(PARTS)}
 
 # RGB [0-1] of each part, far apart in hue so that a picture tells the parts apart
-COLORS = dict(other=(0.85, 0.85, 0.85), mesh=(0.10, 0.30, 0.95), ring=(0.95, 0.08, 0.08), rope=(1.0, 0.55, 0.0),
+COLORS = dict(other=(0.85, 0.85, 0.85), mesh=(0.10, 0.30, 0.95), ring=(0.95, 0.08, 0.08), rope=(0.0, 0.70, 0.75),
               lining=(0.10, 0.75, 0.15), slab=(0.55, 0.55, 0.55), grain=(0.80, 0.70, 0.45), boulder=(0.85, 0.10, 0.85))
 
 # keys of the module's ids (yadeflex.module.build_filled) -> part; a key of the whole scene or of
