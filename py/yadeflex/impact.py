@@ -35,6 +35,10 @@ VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
 PARTS = (("grains", "grain"), ("mesh_cylinders", "wire leg"), ("lining", "lining facet"), ("mesh_nodes", "mesh node"),
          ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope"), ("lining_nodes", "lining node"),
          ("rope_nodes", "rope node"))
+# unit of each column of timeseries.csv (its header reads NAME[UNIT])
+TIMESERIES_UNITS = dict(t="s", boulder_z="m", boulder_vz="m/s", boulder_az="m/s2", impact_force="N", penetration="m", slab_force="N",
+                        bulge_max="m", bulge_mean="m", ring_top_force="N", ring_bottom_force="N", rope_force="N", broken_wires="-",
+                        broken_ring_segments="-", broken_rope_segments="-", broken_lining_facets="-", dt="s")
 # summary key of broken elements -> keys of the module's ids holding such elements
 BROKEN_KINDS = (("broken_wire_legs", ("mesh_cylinders",)), ("broken_ring_segments", ("ring_top", "ring_bottom")),
                 ("broken_rope_segments", ("rope",)), ("broken_lining_facets", ("lining",)))
@@ -237,8 +241,9 @@ class ImpactRun:
         self.t_wall = time.time()
         self.status, self.signal, self.message = "running", None, None
         self.stage = "fill"
-        self.rows = CsvStream(folder.file("timeseries.csv"))
-        self.erows = CsvStream(folder.file("energy.csv"), first=("t",), last=("residual",), missing=0.0)
+        self.rows = CsvStream(folder.file("timeseries.csv"), units=TIMESERIES_UNITS)
+        self.erows = CsvStream(folder.file("energy.csv"), first=("t",), last=("residual",), missing=0.0,
+                               units=lambda k: "s" if k == "t" else "J")
         self.t_fill = self.cached = self.cache_file = None
         self.impact_started = False
         write_json(folder.file("summary.json"), dict(status="running", stage=self.stage, pid=os.getpid()))

@@ -163,17 +163,16 @@ def _norm(v):
 
 def _particles(vtk, bodies, fr):
     """Nodes or spheres: one vertex each, data on the points."""
-    n = len(bodies)
-    vel = [tuple(b.state.vel) for b in bodies]
-    return _grid(vtk, [tuple(b.state.pos) for b in bodies], _VTK_VERTEX, range(n), 1, point_data=[
-        ("id", [b.id for b in bodies], 1),
-        ("part", [fr.part(b) for b in bodies], 1),
-        ("radius", [b.shape.radius for b in bodies], 1),
-        ("mass", [b.state.mass for b in bodies], 1),
-        ("velocity", vel, 3),
-        ("speed", [_norm(v) for v in vel], 1),
-        ("angularVelocity", [tuple(b.state.angVel) for b in bodies], 3),
-        ("blockedDOFs", [len(b.state.blockedDOFs) for b in bodies], 1)])
+    rows = []
+    for b in bodies:  # one pass: each attribute read once
+        st = b.state
+        v = st.vel
+        rows.append((tuple(st.pos), b.id, fr.part(b), b.shape.radius, st.mass, (v[0], v[1], v[2]), _norm(v), tuple(st.angVel),
+                     len(st.blockedDOFs)))
+    col = list(zip(*rows)) if rows else [()] * 9
+    return _grid(vtk, col[0], _VTK_VERTEX, range(len(rows)), 1, point_data=[
+        ("id", col[1], 1), ("part", col[2], 1), ("radius", col[3], 1), ("mass", col[4], 1), ("velocity", col[5], 3),
+        ("speed", col[6], 1), ("angularVelocity", col[7], 3), ("blockedDOFs", col[8], 1)])
 
 
 def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
@@ -257,20 +256,21 @@ def real_contacts():
 def _contacts(vtk, inters, fr):
     """One line per contact from the centre of body 1's side to body 2's (force chains), contact
     data on the cells."""
-    pts, parts1, parts2 = [], [], []
-    for i in inters:
+    pts, rows = [], []
+    bodies = O.bodies
+    for i in inters:  # one pass: each attribute read once
+        g, ph = i.geom, i.phys
+        id1, id2 = i.id1, i.id2
         pts += [_contact_end(i, 1), _contact_end(i, 2)]
-        parts1.append(fr.part(O.bodies[i.id1]))
-        parts2.append(fr.part(O.bodies[i.id2]))
-    fn = [tuple(i.phys.normalForce) for i in inters]
-    fs = [tuple(i.phys.shearForce) for i in inters]
-    return _grid(vtk, pts, _VTK_LINE, range(len(pts)), 2, cell_data=[
-        ("id1", [i.id1 for i in inters], 1), ("id2", [i.id2 for i in inters], 1),
-        ("part1", parts1, 1), ("part2", parts2, 1), ("kind", [P.contact_kind(a, b) for a, b in zip(parts1, parts2)], 1),
-        ("contactPoint", [tuple(i.geom.contactPoint) for i in inters], 3), ("normal", [tuple(i.geom.normal) for i in inters], 3),
-        ("normalForce", fn, 3), ("shearForce", fs, 3), ("fn", [_norm(f) for f in fn], 1), ("fs", [_norm(f) for f in fs], 1),
-        ("force", [_norm([a[k] + b[k] for k in range(3)]) for a, b in zip(fn, fs)], 1),
-        ("penetrationDepth", [getattr(i.geom, "penetrationDepth", float("nan")) for i in inters], 1)])
+        p1, p2 = fr.part(bodies[id1]), fr.part(bodies[id2])
+        fn, fs = tuple(ph.normalForce), tuple(ph.shearForce)
+        rows.append((id1, id2, p1, p2, P.contact_kind(p1, p2), tuple(g.contactPoint), tuple(g.normal), fn, fs, _norm(fn), _norm(fs),
+                     _norm([fn[0] + fs[0], fn[1] + fs[1], fn[2] + fs[2]]), getattr(g, "penetrationDepth", float("nan"))))
+    col = list(zip(*rows)) if rows else [()] * 13
+    names = ("id1", "id2", "part1", "part2", "kind", "contactPoint", "normal", "normalForce", "shearForce", "fn", "fs", "force",
+             "penetrationDepth")
+    return _grid(vtk, pts, _VTK_LINE, range(len(pts)), 2,
+                 cell_data=[(n, c, 3 if n in ("contactPoint", "normal", "normalForce", "shearForce") else 1) for n, c in zip(names, col)])
 
 
 _BUILD = {
@@ -637,8 +637,8 @@ def plot_energy(csv_path, png_path, title="Energy budget"):
     scale = float(np.max(np.abs(vals))) if vals.size else 0.0
     plt = _pyplot()
     fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, gridspec_kw=dict(height_ratios=(3, 1)))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    cols = [colors[k % len(colors)] for k in range(len(terms))]
+    from .impact_plots import term_colors
+    cols = list(term_colors(len(terms)))
     ax.stackplot(t, np.clip(vals, 0, None), labels=terms, colors=cols, alpha=ENERGY_ALPHA)
     ax.stackplot(t, np.clip(vals, None, 0), colors=cols, alpha=ENERGY_ALPHA)
     ax.plot(t, total, "k-", lw=1.5, label="total (sum)")

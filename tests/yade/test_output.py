@@ -438,6 +438,30 @@ def _colour_fraction(png, colour, alpha):
     return float(np.mean(np.all(np.abs(img - want) < 0.02, axis=-1)))
 
 
+def matplotlib_rgb(c):
+    import matplotlib.colors
+    return matplotlib.colors.to_rgb(c)
+
+
+def test_energy_term_colours_are_distinct():
+    """The main job books 13 energy terms or more: no two share a colour (with the line style)."""
+    from yadeflex.impact_plots import term_colors, term_styles
+    for n in (3, 10, 13, 20, 27):
+        styled = {(tuple(np.round(matplotlib_rgb(c), 6)), ls) for c, ls in zip(term_colors(n), term_styles(n))}
+        colours = {tuple(np.round(matplotlib_rgb(c), 6)) for c in term_colors(n)}
+        assert len(colours) == len(styled) == n, n
+
+
+def test_csv_stream_headers_carry_units(tmp_path):
+    from yadeflex.files import CsvStream
+    s = CsvStream(str(tmp_path / "a.csv"), first=("t",), units=dict(t="s", f="N"))
+    s.append(dict(t=0.0, f=1.0))
+    s.append(dict(t=0.1, f=2.0, n=3))  # a new column: the header is rewritten, with units where known
+    s.close()
+    names, units, cols = yf.read_csv(str(tmp_path / "a.csv"))
+    assert names == ["t", "f", "n"] and units == dict(t="s", f="N", n="") and list(cols["f"]) == [1.0, 2.0]
+
+
 def test_plots(scene, tmp_path):
     rec, _ = _energy_run(tmp_path)
     info = yf.plot_energy(rec.path, str(tmp_path / "energy.png"))
@@ -452,6 +476,8 @@ def test_plots(scene, tmp_path):
     assert set(big) == {"kinetic", "gravWork"}
     for n in big:
         assert _colour_fraction(str(tmp_path / "energy.png"), info["colors"][n], yf.output.ENERGY_ALPHA) > 0.02, n
+
+    assert len({tuple(np.round(matplotlib_rgb(c), 6)) for c in info["colors"].values()}) == len(info["terms"])
 
     png = yf.plot_timeseries(rec.path, ["kinetic", "total[J]"], str(tmp_path / "ts.png"), title="t")
     assert os.path.getsize(png) > 15e3

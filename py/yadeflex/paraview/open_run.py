@@ -232,9 +232,10 @@ def render(run, png, **kw):
 
 
 def render_frames(run, folder, **kw):
-    """Every frame of the series into folder/frame_NNNN.png (for a movie). Returns the count."""
+    """Every frame of the series into folder/frame_NNNN.png (for a movie), the colour ranges
+    those of the peak force's frame (a results folder) or of the last frame. Returns the count."""
     os.makedirs(folder, exist_ok=True)
-    r = open_run(run, time="first", **kw)
+    r = open_run(run, time="last" if run.endswith(".pvd") else "peak", **kw)
     for k, t in enumerate(r["times"]):
         r["view"].ViewTime = t
         pv.Render(r["view"])
