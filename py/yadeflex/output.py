@@ -145,8 +145,8 @@ def _grid(vtk, points, cell_type, conn, nper, point_data=(), cell_data=()):
 
 class _Frame:
     """What the builders of one frame share: parts (body id -> part id, yadeflex.parts), the
-    broken elements to draw (group -> [(id, node ids, {field: value})]) and the memory of the
-    elements drawn (group -> {id: (node ids, {field: value})}, filled if not None)."""
+    broken elements to draw (group -> [(id, node ids, {field: value}, part id)]) and the memory
+    of the group's elements drawn ({id: (node ids, {field: value}, part id)}, filled if not None)."""
 
     def __init__(self, parts=None, broken=None, memory=None):
         self.parts = P.scene_parts() if parts is None else parts
@@ -444,7 +444,7 @@ class VtkRecorder(_Periodic):
     def _empty_file(self, g):
         return f"{self.prefix}_{g}_empty.vtu"
 
-    def _broken(self, groups):
+    def _broken(self):
         """group -> [(id, node ids, fields, part)] of the remembered elements erased as ruptured."""
         ruptured = _ruptured_ids()
         out = {}
@@ -459,7 +459,7 @@ class VtkRecorder(_Periodic):
             return None
         vtk = _vtk()
         groups = scene_groups()
-        broken = self._broken(groups)
+        broken = self._broken()
         for g in broken:
             groups.setdefault(g, [])
         k = len(self.frames)

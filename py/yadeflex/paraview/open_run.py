@@ -17,10 +17,11 @@ What is shown (yadeflex/output.py describes the files; yadeflex/parts.py the par
 - the lining as its triangles, coloured by the membrane force n1 [N/m] or in its part's colour;
 - the grains as spheres of their radius (Glyph), the boulder as its hull (the clumps group);
 - the contacts as force chains: black tubes between the contacting bodies' centres, their
-  radius growing with the contact force [N] from CONTACT_TUBE / 10 at the smallest force of the
-  frame to CONTACT_TUBE at the largest (--no-contacts leaves them out); grains are drawn
-  translucent while they are shown;
-- --clip: everything cut by the plane y = the boulder's y, the front half removed, to see inside.
+  radius growing with the contact force [N] from CONTACT_TUBE / 4 at the smallest force of the
+  frame to CONTACT_TUBE at the largest (--no-contacts leaves them out); grains are drawn at
+  GRAIN_SCALE_WITH_CONTACTS of their size while they are shown;
+- --clip: everything cut by the plane y = the boulder's y, the front half removed, to see inside;
+  the grains and contacts only in a slab SLAB deep behind the cut (a section through the fill).
 Filters: each group is ExtractBlock > ExtractSurface first (Cell Data to Point Data straight on
 the reader's blocks crashes pvpython 5.11), then CellDatatoPointData > Tube for lines.
 """
@@ -42,7 +43,8 @@ _spec.loader.exec_module(PARTS_MODULE)
 PART, COLORS = PARTS_MODULE.PART, PARTS_MODULE.COLORS
 
 BACKGROUND = (1.0, 1.0, 1.0)
-GRAIN_OPACITY_WITH_CONTACTS = 0.25
+GRAIN_SCALE_WITH_CONTACTS = 0.5  # grains drawn at this fraction of their size while force chains are shown
+SLAB = 0.08  # [m] with --clip, grains and contacts are shown in this slab behind the cut only (a section)
 CONTACT_TUBE = 0.006  # [m] force-chain tube radius at the largest force of the frame shown
 CONTACT_COLOR = (0.05, 0.05, 0.05)  # force chains: black, their thickness gives the force
 WIRE_TUBE_MIN = 0.002  # [m] wires thinner than this are drawn this thick (a 1.5 mm wire is sub-pixel)
@@ -86,6 +88,18 @@ def _threshold(src, array, lo, hi, points=False):
     th.ThresholdMethod = "Between"
     th.LowerThreshold, th.UpperThreshold = lo, hi
     return pv.ExtractSurface(Input=th)
+
+
+def _slab(src, origin):
+    """src between the cut plane and SLAB behind it (whole cells), or src without a cut."""
+    if origin is None:
+        return src
+    behind = [origin[0], origin[1] + SLAB, origin[2]]
+    c = pv.Clip(Input=_clip(src, origin), ClipType="Plane", Crinkleclip=1)
+    c.ClipType.Origin = behind
+    c.ClipType.Normal = [0.0, 1.0, 0.0]
+    c.Invert = 1  # keeps y <= origin's + SLAB
+    return c
 
 
 def _clip(src, origin, crinkle=1):
@@ -195,10 +209,12 @@ def open_run(run, time="peak", color="force", clip=False, contacts=True, size=(1
     if "spheres" in groups:
         sph = pv.ExtractSurface(Input=pv.ExtractBlock(Input=reader, Selectors=["/Root/spheres"]))
         grains = _threshold(sph, "part", PART["grain"], PART["grain"], points=True)
-        g = pv.Glyph(Input=grains, GlyphType="Sphere", ScaleArray=["POINTS", "radius"], ScaleFactor=2.0, GlyphMode="All Points")
+        chains = contacts and "contacts" in groups
+        g = pv.Glyph(Input=grains, GlyphType="Sphere", ScaleArray=["POINTS", "radius"], GlyphMode="All Points")
+        g.ScaleFactor = 2.0 * (GRAIN_SCALE_WITH_CONTACTS if chains else 1.0)  # after ScaleArray, which resets it
         g.GlyphType.ThetaResolution = 16
         g.GlyphType.PhiResolution = 12
-        shown["grain"] = _solid(view, _clip(g, origin), part_col("grain"), GRAIN_OPACITY_WITH_CONTACTS if contacts and "contacts" in groups else 1.0)
+        shown["grain"] = _solid(view, _slab(g, origin), part_col("grain"))
     if "clumps" in groups:
         hull = pv.ExtractSurface(Input=pv.ExtractBlock(Input=reader, Selectors=["/Root/clumps"]))
         shown["boulder"] = _solid(view, _clip(hull, origin, crinkle=0), part_col("boulder"))
@@ -208,13 +224,14 @@ def open_run(run, time="peak", color="force", clip=False, contacts=True, size=(1
         fmax = con.GetDataInformation().GetCellDataInformation().GetArrayInformation("force")
         fmax = fmax.GetComponentRange(0)[1] if fmax is not None else 0.0
         if fmax > 0:
-            # radius from CONTACT_TUBE / 10 at the smallest force to CONTACT_TUBE at the largest
+            # radius from CONTACT_TUBE / 4 at the smallest force to CONTACT_TUBE at the largest
             tube = pv.Tube(Input=pv.CellDatatoPointData(Input=con), Scalars=["POINTS", "force"], VaryRadius="By Scalar",
-                           Radius=0.1 * CONTACT_TUBE, RadiusFactor=10.0, NumberofSides=6)
-            shown["contacts"] = _solid(view, _clip(tube, origin), CONTACT_COLOR)
+                           Radius=0.25 * CONTACT_TUBE, RadiusFactor=4.0, NumberofSides=6)
+            shown["contacts"] = _solid(view, _slab(tube, origin), CONTACT_COLOR)
     # camera: from -y, a little above, the whole scene in view
     pv.SetActiveView(view)
-    view.CameraPosition = [0.0, -4.0, 3.0]
+    # (cut: nearly head-on, to look at the section)
+    view.CameraPosition = [0.0, -4.0, 0.8 if clip else 3.0]
     view.CameraFocalPoint = [0.0, 0.0, 0.0]
     view.CameraViewUp = [0.0, 0.0, 1.0]
     view.ResetCamera(False)
