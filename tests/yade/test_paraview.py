@@ -3,7 +3,7 @@ offscreen, each part in its colour (yadeflex.parts.COLORS).
 
 Needs pvpython (Debian's paraview, installed or unpacked: yadeflex.paraview) and, without a
 display, xvfb-run; skipped, with the reason, without them. The run: the reduced module with
-VTK, 20 ms after the first contact (its force peaks at about 16 ms), from the tests' module cache.
+VTK, 10 ms after the first contact, from the tests' module cache.
 """
 import os
 
@@ -36,14 +36,14 @@ def run_dir(tmp_path_factory, module_cache):
     from yadeflex.impact import run_impact
     from yadeflex.module import ModuleParams
     out = str(tmp_path_factory.mktemp("pvrun"))
-    s = run_impact(ModuleParams.small(), out, cache_dir=module_cache, progress=False, duration=0.02)
+    s = run_impact(ModuleParams.small(), out, cache_dir=module_cache, progress=False, duration=0.01)
     assert s["status"] == "done", s
     return out
 
 
 def _render(run_dir, name, *args):
     png = os.path.join(run_dir, name)
-    r = YP.run_open_run([run_dir, "--png", png, "--size", 800, 600, *args], timeout=300)
+    r = YP.run_open_run([run_dir, "--png", png, "--size", 640, 480, *args], timeout=300)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert "after the first contact" in r.stdout
     return np.asarray(Image.open(png).convert("RGB")).astype(float)
@@ -53,7 +53,7 @@ def test_each_part_in_its_colour(run_dir):
     # cut in half, grains opaque (no force chains): every part shows
     img = _render(run_dir, "parts.png", "--color", "part", "--clip", "--no-contacts")
     counts = {name: int(_hue_mask(img, P.COLORS[name]).sum()) for name in ("mesh", "ring", "lining", "grain", "boulder")}
-    # at 800 x 600 the smallest part on screen, the ring, covers some hundred pixels
+    # at 640 x 480 the smallest part on screen, the ring, covers some hundred pixels
     assert all(n > 100 for n in counts.values()), counts
     # the background is white: what is not white is the scene
     assert (img.min(axis=2) < 250).mean() > 0.05
@@ -81,3 +81,23 @@ def test_bad_folder_is_named(tmp_path):
         pytest.skip("no pvpython")
     r = YP.run_open_run([tmp_path, "--png", tmp_path / "x.png"], timeout=120)
     assert r.returncode == 1 and "no VTK series" in r.stderr
+
+
+def test_movie_frames(run_dir, tmp_path):
+    """scripts/movie.py: one PNG per frame of the series, each showing the scene; an MP4 with ffmpeg."""
+    import shutil
+    import subprocess
+    import sys
+    import xml.etree.ElementTree as ET
+    from conftest import REPO
+    out = tmp_path / "movie"
+    r = subprocess.run([sys.executable, os.path.join(REPO, "scripts", "movie.py"), run_dir, "--out", str(out), "--size", "320", "240"],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    times = {float(d.get("timestep")) for d in ET.parse(os.path.join(run_dir, "vtk", "flex.pvd")).getroot().iter("DataSet")}
+    frames = sorted(f for f in os.listdir(out) if f.startswith("frame_"))
+    assert len(frames) == len(times) > 5
+    for f in (frames[0], frames[-1]):
+        img = np.asarray(Image.open(out / f).convert("RGB")).astype(float)
+        assert (img.min(axis=2) < 250).mean() > 0.05, f
+    assert (out / "impact.mp4").exists() == (shutil.which("ffmpeg") is not None)
