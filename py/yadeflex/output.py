@@ -157,6 +157,11 @@ class _Frame:
         return P.part_of(b, self.parts)
 
 
+def _v3(v):
+    """(x, y, z) of a Vector3 (tuple(v) would end its iteration on an IndexError: slower)."""
+    return (v[0], v[1], v[2])
+
+
 def _norm(v):
     return math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
 
@@ -167,7 +172,7 @@ def _particles(vtk, bodies, fr):
     for b in bodies:  # one pass: each attribute read once
         st = b.state
         v = st.vel
-        rows.append((tuple(st.pos), b.id, fr.part(b), b.shape.radius, st.mass, (v[0], v[1], v[2]), _norm(v), tuple(st.angVel),
+        rows.append((_v3(st.pos), b.id, fr.part(b), b.shape.radius, st.mass, _v3(v), _norm(v), _v3(st.angVel),
                      len(st.blockedDOFs)))
     col = list(zip(*rows)) if rows else [()] * 9
     return _grid(vtk, col[0], _VTK_VERTEX, range(len(rows)), 1, point_data=[
@@ -194,16 +199,16 @@ def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
                 index[i] = len(nodes)
                 nodes.append(O.bodies[i])
             conn.append(index[i])
-    return _grid(vtk, [tuple(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
-                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [tuple(nb.state.vel) for nb in nodes], 3)],
+    return _grid(vtk, [_v3(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
+                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [_v3(nb.state.vel) for nb in nodes], 3)],
                  cell_data=[("id", [r[0] for r in rows], 1), ("part", [r[3] for r in rows], 1),
                             ("broken", [0] * len(live) + [1] * len(dead), 1)] + [(f, [r[2][f] for r in rows], 1) for f in fields])
 
 
 def _rigid(vtk, bodies, cell_type, local_corners, extra, fr):
     """Rigid bodies drawn from corners in their local frame (pos + ori * corner)."""
-    pts = [tuple(b.state.pos + b.state.ori * c) for b in bodies for c in local_corners(b)]
-    vel = [tuple(b.state.vel) for b in bodies]
+    pts = [_v3(b.state.pos + b.state.ori * c) for b in bodies for c in local_corners(b)]
+    vel = [_v3(b.state.vel) for b in bodies]
     nper = len(pts) // len(bodies) if bodies else {_VTK_HEXAHEDRON: 8, _VTK_TRIANGLE: 3}[cell_type]
     return _grid(vtk, pts, cell_type, range(len(pts)), nper, cell_data=[
         ("id", [b.id for b in bodies], 1), ("part", [fr.part(b) for b in bodies], 1), ("velocity", vel, 3),
@@ -242,9 +247,9 @@ def _contact_end(i, side):
     g = i.geom
     p = getattr(g, "axis1" if side == 1 else "axis2", None)
     if p is not None:
-        return tuple(p)
+        return _v3(p)
     b = O.bodies[i.id1 if side == 1 else i.id2]
-    return tuple(b.state.pos if isinstance(b.shape, Sphere) else g.contactPoint)
+    return _v3(b.state.pos if isinstance(b.shape, Sphere) else g.contactPoint)
 
 
 def real_contacts():
@@ -263,8 +268,8 @@ def _contacts(vtk, inters, fr):
         id1, id2 = i.id1, i.id2
         pts += [_contact_end(i, 1), _contact_end(i, 2)]
         p1, p2 = fr.part(bodies[id1]), fr.part(bodies[id2])
-        fn, fs = tuple(ph.normalForce), tuple(ph.shearForce)
-        rows.append((id1, id2, p1, p2, P.contact_kind(p1, p2), tuple(g.contactPoint), tuple(g.normal), fn, fs, _norm(fn), _norm(fs),
+        fn, fs = _v3(ph.normalForce), _v3(ph.shearForce)
+        rows.append((id1, id2, p1, p2, P.contact_kind(p1, p2), _v3(g.contactPoint), _v3(g.normal), fn, fs, _norm(fn), _norm(fs),
                      _norm([fn[0] + fs[0], fn[1] + fs[1], fn[2] + fs[2]]), getattr(g, "penetrationDepth", float("nan"))))
     col = list(zip(*rows)) if rows else [()] * 13
     names = ("id1", "id2", "part1", "part2", "kind", "contactPoint", "normal", "normalForce", "shearForce", "fn", "fs", "force",
@@ -281,7 +286,7 @@ _BUILD = {
     "clumps": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _clump_corners,
                                          lambda bs_: [("mass", [b.state.mass for b in bs_], 1)], fr),
     "boxes": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _box_corners,
-                                        lambda bs_: [("extents", [tuple(b.shape.extents) for b in bs_], 3)], fr),
+                                        lambda bs_: [("extents", [_v3(b.shape.extents) for b in bs_], 3)], fr),
     "rigid_facets": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: [], fr),
     "contacts": lambda vtk, inters, fr: _contacts(vtk, inters, fr),
 }
