@@ -162,7 +162,7 @@ def open_run(run, time="peak", color="force", clip=False, contacts=True, size=(1
     else:
         want = float(time)
     t = min(times, key=lambda x: abs(x - want))
-    view = view or pv.CreateView("RenderView")
+    view = view or pv.GetActiveViewOrCreate("RenderView")  # (in the GUI: the open view)
     view.ViewSize = list(size)
     view.Background = list(BACKGROUND)
     try:
