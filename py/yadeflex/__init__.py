@@ -18,7 +18,8 @@ from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 from .rope import rope_around
 from .output import VtkRecorder, write_vtk_snapshot, EnergyRecorder, read_csv, plot_timeseries, plot_energy
-from .view import view, snapshot, scene_box
+from .view import view, snapshot, scene_box, color_by_part
+from . import parts
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",
@@ -28,5 +29,5 @@ __all__ = [
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on", "contact_law",
     "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
     "VtkRecorder", "write_vtk_snapshot", "EnergyRecorder", "read_csv", "plot_timeseries", "plot_energy",
-    "view", "snapshot", "scene_box",
+    "view", "snapshot", "scene_box", "color_by_part", "parts",
 ]

@@ -61,10 +61,12 @@ class CsvStream:
     run that stops anyhow leaves its rows. Columns: `first`, then the other keys in the order they
     first appear, then `last`. A row with a key not seen before rewrites the file with the wider
     header (earlier rows get `missing` in the new column); rows are kept for that (and for the
-    caller: .rows)."""
+    caller: .rows). units: column -> unit, or a function of the column: the header reads
+    NAME[UNIT] (yadeflex.output.read_csv splits it); rows are keyed by the bare names."""
 
-    def __init__(self, path, first=(), last=(), missing=""):
+    def __init__(self, path, first=(), last=(), missing="", units=None):
         self.path, self.first, self.last, self.missing = path, list(first), list(last), missing
+        self.unit = units if callable(units) else (lambda k, u=dict(units or {}): u.get(k))
         self.columns = None
         self.rows = []
         self._fh = None
@@ -82,7 +84,7 @@ class CsvStream:
             try:
                 self._fh = open(tmp, "w", newline="")
                 self._writer = csv.DictWriter(self._fh, fieldnames=self.columns, restval=self.missing)
-                self._writer.writeheader()
+                csv.writer(self._fh).writerow([k if self.unit(k) is None else f"{k}[{self.unit(k)}]" for k in self.columns])
                 self._writer.writerows(self.rows)
                 self._fh.flush()
                 os.replace(tmp, self.path)  # the open file is now the one at path

@@ -35,6 +35,10 @@ VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
 PARTS = (("grains", "grain"), ("mesh_cylinders", "wire leg"), ("lining", "lining facet"), ("mesh_nodes", "mesh node"),
          ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope"), ("lining_nodes", "lining node"),
          ("rope_nodes", "rope node"))
+# unit of each column of timeseries.csv (its header reads NAME[UNIT])
+TIMESERIES_UNITS = dict(t="s", boulder_z="m", boulder_vz="m/s", boulder_az="m/s2", impact_force="N", penetration="m", slab_force="N",
+                        bulge_max="m", bulge_mean="m", ring_top_force="N", ring_bottom_force="N", rope_force="N", broken_wires="-",
+                        broken_ring_segments="-", broken_rope_segments="-", broken_lining_facets="-", dt="s")
 # summary key of broken elements -> keys of the module's ids holding such elements
 BROKEN_KINDS = (("broken_wire_legs", ("mesh_cylinders",)), ("broken_ring_segments", ("ring_top", "ring_bottom")),
                 ("broken_rope_segments", ("rope",)), ("broken_lining_facets", ("lining",)))
@@ -218,7 +222,7 @@ class RunSettings:
     yadeflex.module_cli.RUN_LIMITS)."""
     duration: float = None         # [s] simulated time after the first contact; None: until the rebound + ImpactTimes' margin
     record_every: float = 2e-4     # [s] time-series interval (timeseries.csv, energy.csv)
-    vtk_every: float = 5e-3        # [s] VTK frame interval
+    vtk_every: float = 1e-3        # [s] VTK frame interval: a tenth of the shortest force pulse expected (10 ms), so the peak is in the frames
     no_vtk: bool = False           # no VTK time series
     min_dt_fraction: float = 0.01  # [-] stop when the time step falls below this fraction of its value at impact; 0: never
     max_residual: float = 0.02     # [-] largest accepted energy-balance residual, fraction of the impact energy (else EXIT["residual"])
@@ -237,8 +241,9 @@ class ImpactRun:
         self.t_wall = time.time()
         self.status, self.signal, self.message = "running", None, None
         self.stage = "fill"
-        self.rows = CsvStream(folder.file("timeseries.csv"))
-        self.erows = CsvStream(folder.file("energy.csv"), first=("t",), last=("residual",), missing=0.0)
+        self.rows = CsvStream(folder.file("timeseries.csv"), units=TIMESERIES_UNITS)
+        self.erows = CsvStream(folder.file("energy.csv"), first=("t",), last=("residual",), missing=0.0,
+                               units=lambda k: "s" if k == "t" else "J")
         self.t_fill = self.cached = self.cache_file = None
         self.impact_started = False
         write_json(folder.file("summary.json"), dict(status="running", stage=self.stage, pid=os.getpid()))
@@ -316,8 +321,11 @@ class ImpactRun:
 
     def _impact(self):
         a = self.s
-        next_rec, next_vtk = self.start, self.start  # (on the grid from the start: every step records until it catches up)
-        vtk = None if a.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX)
+        # records on the grid from the start (every step records until it catches up); frames from the first contact on
+        next_rec, next_vtk = self.start, O.time
+        # the series' clock starts at the boulder's first contact (the CSVs' at the start of the run)
+        origin = self.start + (self.free_fall["t"] if self.free_fall else 0.0)
+        vtk = None if a.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX, time_origin=origin)
         ts = next(e for e in O.engines if e.label == "flexDt")
         guard = next((e for e in O.engines if type(e).__name__ == "FlexGuard"), None)
         while O.time < self.times.end:

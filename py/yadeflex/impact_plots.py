@@ -4,6 +4,21 @@ energy.png (the energy terms and the balance residual)."""
 import os
 
 
+def term_colors(n):
+    """n colours, no two alike: matplotlib's tab10, then tab20's light shades (up to 20), then
+    hues around the circle."""
+    import matplotlib
+    base = list(matplotlib.colormaps["tab10"].colors) + list(matplotlib.colormaps["tab20"].colors[1::2])
+    if n <= len(base):
+        return base[:n]
+    return [matplotlib.colors.hsv_to_rgb((k / n, 0.8, 0.8)) for k in range(n)]
+
+
+def term_styles(n):
+    """Line styles: solid for the first ten, dashed for the light shades after them."""
+    return ["-" if k < 10 else "--" for k in range(n)]
+
+
 def write_plots(folder, rows, erows, keys):
     """impact.png and energy.png into folder; rows: timeseries.csv's, erows: energy.csv's, keys:
     the energy terms to draw."""
@@ -23,18 +38,21 @@ def write_plots(folder, rows, erows, keys):
     ax[1, 0].set(xlabel="t [ms]", ylabel="radial bulging [mm]", title="mesh at mid-height")
     ax[1, 0].legend()
     ax[1, 1].plot(t, [r["ring_top_force"] / 1e3 for r in rows], label="top ring")
-    ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
+    if any(r["ring_bottom_force"] for r in rows):
+        ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
+    else:  # its nodes are pinned to the slab: it cannot stretch, so it carries nothing
+        ax[1, 1].plot([], [], " ", label="bottom ring: 0 (its nodes are pinned to the slab)")
     if any(r["rope_force"] for r in rows):
         ax[1, 1].plot(t, [r["rope_force"] / 1e3 for r in rows], label="boundary rope")
-    ax[1, 1].set(xlabel="t [ms]", ylabel="max axial force [kN]", title="rings and rope")
-    ax[1, 1].legend()
+    ax[1, 1].set(xlabel="t [ms]", ylabel="largest axial force [kN] (tension > 0)", title="rings and rope")
+    ax[1, 1].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "impact.png"), dpi=110)
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(10, 6))
     te = [1e3 * e["t"] for e in erows]
-    for k in keys:
-        ax.plot(te, [e.get(k, 0.0) for e in erows], label=k)
+    for k, c, ls in zip(keys, term_colors(len(keys)), term_styles(len(keys))):
+        ax.plot(te, [e.get(k, 0.0) for e in erows], color=c, ls=ls, label=k)
     ax.plot(te, [e["residual"] for e in erows], "k--", label="balance residual")
     ax.set(xlabel="t [ms]", ylabel="energy [J]", title="energy budget (work terms with YADE's signs)")
     ax.legend(fontsize=8, ncol=2)

@@ -3,28 +3,50 @@
 VTK. Each frame writes one VTK XML unstructured grid (.vtu) per group of bodies and rewrites
 the collection file PREFIX.pvd, which ParaView opens as ONE time series (a multiblock, one
 block per group, named after it). The .pvd is replaced atomically after the frame's files are
-complete, so an interrupted run still opens, up to its last frame.
+complete, so an interrupted run still opens, up to its last frame. yadeflex/paraview/open_run.py
+opens it with colours, tubes and glyphs set.
 
     group            cells                     data (SI units)
-    nodes            one vertex per FlexNode   point: id, radius [m], mass [kg], velocity [m/s],
+    nodes            one vertex per FlexNode   point: id, part, radius [m], mass [kg], velocity [m/s],
                                                speed [m/s], angularVelocity [rad/s], blockedDOFs [-]
-    cylinders        line node1-node2          cell: id, radius [m], axialForce [N] (tension > 0),
-                                               strain [-], plasticStrain [-], maxStrain [-],
-                                               hardeningVar [-], wireSlack [-], elasticEnergy [J],
-                                               L0 [m]; point: id (node), velocity [m/s]
-    facets           triangle node1-2-3        cell: id, radius [m] (half thickness), n1, n2 [N/m]
-                                               (principal membrane forces), e1, e2 [-],
+    cylinders        line node1-node2          cell: id, part, broken, radius [m], axialForce [N]
+                                               (tension > 0), strain [-], plasticStrain [-],
+                                               maxStrain [-], hardeningVar [-], wireSlack [-],
+                                               elasticEnergy [J], L0 [m]; point: id (node),
+                                               velocity [m/s]
+    facets           triangle node1-2-3        cell: id, part, broken, radius [m] (half thickness),
+                                               n1, n2 [N/m] (principal membrane forces), e1, e2 [-],
                                                elasticEnergy [J], pressure [Pa], area0 [m2];
                                                point: id (node), velocity [m/s]
     spheres          one vertex per Sphere     point: as nodes (Glyph > Sphere, Scale Array
-                                               radius, Scale Factor 2 draws them to size)
-    boxes            hexahedron per Box        cell: id, extents [m], velocity [m/s], speed [m/s]
-    rigid_facets     triangle per YADE Facet   cell: id, velocity [m/s], speed [m/s]
+                                               radius, Scale Factor 2 draws them to size); a
+                                               clump's member spheres too (part: boulder)
+    clumps           hexahedron per clump      cell: id, part, velocity [m/s], speed [m/s], mass
+                                               [kg]; the box around its members in its own frame
+                                               (the cube boulder: the cube)
+    boxes            hexahedron per Box        cell: id, part, extents [m], velocity [m/s], speed [m/s]
+    rigid_facets     triangle per YADE Facet   cell: id, part, velocity [m/s], speed [m/s]
+    contacts         line per contact, from    cell: id1, id2, part1, part2, kind, contactPoint [m],
+                     the centre of side 1 to   normal [-] (from 1 to 2), normalForce [N], shearForce
+                     side 2's (force chains)   [N] (vectors, on body 2), fn, fs, force [N] (their
+                                               magnitudes, |normal + shear|), penetrationDepth [m]
+
+part: which part of the structure the body is, yadeflex.parts.PARTS (0 other, 1 mesh, 2 ring,
+3 rope, 4 lining, 5 slab, 6 grain, 7 boulder); kind: 10 x the smaller part id + the larger (16
+mesh-grain, 46 lining-grain, 66 grain-grain, 67 grain-boulder, ...). A side's centre is a
+sphere's centre, the closest point on a cylinder's axis or a facet's midplane, the contact point
+on a wall, YADE facet or box. Contacts are the
+real interactions with a normal force (handed-over FlexContactGeom contacts left out).
+broken: 1 for an element FlexElementEngine erased as ruptured (VtkRecorder only): it is kept in
+every later frame between its nodes' current positions, with its load fields (axialForce, n1,
+n2, elasticEnergy, pressure) 0 and the others as in the last frame that held it alive (an
+element that ruptures between two frames keeps the values of the frame before).
 
 Cylinder and facet files hold only the nodes their elements use, at their current positions.
 Shape fields missing from the installed plugin are left out (the list is taken from the class).
-Erased bodies (None) are skipped; other shapes (walls, clumps' own bodies) are not written.
-Every file carries field data TimeValue [s] and Iteration [-].
+Erased bodies (None) are skipped; other shapes (walls) are not written.
+Every file carries field data TimeValue [s] (the series' time: O.time - the recorder's
+time_origin), SceneTime [s] (O.time) and Iteration [-].
 
 Empty groups: a group with no bodies at a frame writes no file for that frame. Once a group has
 appeared in the series, frames where it has no bodies (before it appeared, or after its bodies
@@ -46,17 +68,20 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from yade import O
-from yade.wrapper import Box, Facet, FlexCylinder, FlexFacet, FlexNode, PyRunner, Sphere
+from yade.wrapper import Box, Clump, Facet, FlexCylinder, FlexFacet, FlexNode, PyRunner, Sphere
 
+from . import parts as P
 from .files import clear_matching, write_atomic
 
 # ---- VTK ---------------------------------------------------------------------------------------
 
-GROUPS = ("nodes", "cylinders", "facets", "spheres", "boxes", "rigid_facets")
+GROUPS = ("nodes", "cylinders", "facets", "spheres", "clumps", "boxes", "rigid_facets", "contacts")
 
 _CYLINDER_FIELDS = ("radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar", "wireSlack",
                     "elasticEnergy", "L0")
 _FACET_FIELDS = ("radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0")
+# fields a broken element no longer carries: written as 0 on it (the others keep their last values)
+_LOAD_FIELDS = ("axialForce", "n1", "n2", "elasticEnergy", "pressure")
 
 
 def _fields_of(cls, names):
@@ -85,7 +110,8 @@ def _vtk():
                 vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
 
 
-_INT_ARRAYS = ("id", "blockedDOFs")  # written as Int64; all others as Float64 (fixed, so an empty file has the same types)
+# written as Int64; all others as Float64 (fixed, so an empty file has the same types)
+_INT_ARRAYS = ("id", "blockedDOFs", "part", "broken", "id1", "id2", "part1", "part2", "kind")
 
 
 def _array(vtk, name, values, components=1):
@@ -117,44 +143,76 @@ def _grid(vtk, points, cell_type, conn, nper, point_data=(), cell_data=()):
     return ug
 
 
-def _particles(vtk, bodies):
+class _Frame:
+    """What the builders of one frame share: parts (body id -> part id, yadeflex.parts), the
+    broken elements to draw (group -> [(id, node ids, {field: value}, part id)]) and the memory
+    of the group's elements drawn ({id: (node ids, {field: value}, part id)}, filled if not None)."""
+
+    def __init__(self, parts=None, broken=None, memory=None):
+        self.parts = P.scene_parts() if parts is None else parts
+        self.broken = broken or {}
+        self.memory = memory
+
+    def part(self, b):
+        return P.part_of(b, self.parts)
+
+
+def _v3(v):
+    """(x, y, z) of a Vector3 (tuple(v) would end its iteration on an IndexError: slower)."""
+    return (v[0], v[1], v[2])
+
+
+def _norm(v):
+    return math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+
+
+def _particles(vtk, bodies, fr):
     """Nodes or spheres: one vertex each, data on the points."""
-    n = len(bodies)
-    vel = [tuple(b.state.vel) for b in bodies]
-    return _grid(vtk, [tuple(b.state.pos) for b in bodies], _VTK_VERTEX, range(n), 1, point_data=[
-        ("id", [b.id for b in bodies], 1),
-        ("radius", [b.shape.radius for b in bodies], 1),
-        ("mass", [b.state.mass for b in bodies], 1),
-        ("velocity", vel, 3),
-        ("speed", [math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel], 1),
-        ("angularVelocity", [tuple(b.state.angVel) for b in bodies], 3),
-        ("blockedDOFs", [len(b.state.blockedDOFs) for b in bodies], 1)])
+    rows = []
+    for b in bodies:  # one pass: each attribute read once
+        st = b.state
+        v = st.vel
+        rows.append((_v3(st.pos), b.id, fr.part(b), b.shape.radius, st.mass, _v3(v), _norm(v), _v3(st.angVel),
+                     len(st.blockedDOFs)))
+    col = list(zip(*rows)) if rows else [()] * 9
+    return _grid(vtk, col[0], _VTK_VERTEX, range(len(rows)), 1, point_data=[
+        ("id", col[1], 1), ("part", col[2], 1), ("radius", col[3], 1), ("mass", col[4], 1), ("velocity", col[5], 3),
+        ("speed", col[6], 1), ("angularVelocity", col[7], 3), ("blockedDOFs", col[8], 1)])
 
 
-def _elements(vtk, bodies, node_attrs, cell_type, fields):
+def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
     """Cylinders or facets: cells over their nodes (only the nodes they use), shape fields as
-    cell data, node id and velocity as point data."""
+    cell data, node id and velocity as point data. The group's broken elements of fr follow the
+    live ones, between their nodes' current positions (skipped if a node is gone), with broken = 1,
+    the load fields 0 and the other fields as last recorded."""
     index, nodes, conn = {}, [], []
-    for b in bodies:
-        for a in node_attrs:
-            i = getattr(b.shape, a)
+    live = [(b.id, tuple(getattr(b.shape, a) for a in node_attrs), {f: getattr(b.shape, f) for f in fields}, fr.part(b))
+            for b in bodies]
+    if fr.memory is not None:
+        fr.memory.update({i: (ns, vals, part) for i, ns, vals, part in live})
+    dead = [(i, ns, dict(vals, **{f: 0.0 for f in _LOAD_FIELDS if f in vals}), part) for i, ns, vals, part in fr.broken.get(group, ())
+            if all(0 <= n < len(O.bodies) and O.bodies[n] is not None for n in ns)]
+    rows = live + dead
+    for _, ns, _, _ in rows:
+        for i in ns:
             if i not in index:
                 index[i] = len(nodes)
                 nodes.append(O.bodies[i])
             conn.append(index[i])
-    return _grid(vtk, [tuple(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
-                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [tuple(nb.state.vel) for nb in nodes], 3)],
-                 cell_data=[("id", [b.id for b in bodies], 1)] + [(f, [getattr(b.shape, f) for b in bodies], 1) for f in fields])
+    return _grid(vtk, [_v3(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
+                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [_v3(nb.state.vel) for nb in nodes], 3)],
+                 cell_data=[("id", [r[0] for r in rows], 1), ("part", [r[3] for r in rows], 1),
+                            ("broken", [0] * len(live) + [1] * len(dead), 1)] + [(f, [r[2][f] for r in rows], 1) for f in fields])
 
 
-def _rigid(vtk, bodies, cell_type, local_corners, extra):
+def _rigid(vtk, bodies, cell_type, local_corners, extra, fr):
     """Rigid bodies drawn from corners in their local frame (pos + ori * corner)."""
-    pts = [tuple(b.state.pos + b.state.ori * c) for b in bodies for c in local_corners(b)]
-    vel = [tuple(b.state.vel) for b in bodies]
+    pts = [_v3(b.state.pos + b.state.ori * c) for b in bodies for c in local_corners(b)]
+    vel = [_v3(b.state.vel) for b in bodies]
     nper = len(pts) // len(bodies) if bodies else {_VTK_HEXAHEDRON: 8, _VTK_TRIANGLE: 3}[cell_type]
     return _grid(vtk, pts, cell_type, range(len(pts)), nper, cell_data=[
-        ("id", [b.id for b in bodies], 1), ("velocity", vel, 3),
-        ("speed", [math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel], 1)] + extra(bodies))
+        ("id", [b.id for b in bodies], 1), ("part", [fr.part(b) for b in bodies], 1), ("velocity", vel, 3),
+        ("speed", [_norm(v) for v in vel], 1)] + extra(bodies))
 
 
 def _box_corners(b):
@@ -162,28 +220,90 @@ def _box_corners(b):
     return [type(e)(sx * e[0], sy * e[1], sz * e[2]) for sx, sy, sz in _HEX_CORNERS]
 
 
+def _clump_box(b):
+    """(centre, half extents) in the clump's frame of the box around its members (spheres with
+    their radius, other members by their centre)."""
+    lo, hi = [math.inf] * 3, [-math.inf] * 3
+    for mid, (rel, _) in b.shape.members.items():
+        m = O.bodies[mid]
+        r = m.shape.radius if m is not None and isinstance(m.shape, Sphere) else 0.0
+        for k in range(3):
+            lo[k], hi[k] = min(lo[k], rel[k] - r), max(hi[k], rel[k] + r)
+    if not b.shape.members:
+        lo = hi = [0.0] * 3
+    return [0.5 * (a + c) for a, c in zip(lo, hi)], [0.5 * (c - a) for a, c in zip(lo, hi)]
+
+
+def _clump_corners(b):
+    c, e = _clump_box(b)
+    v = type(b.state.pos)
+    return [v(c[0] + sx * e[0], c[1] + sy * e[1], c[2] + sz * e[2]) for sx, sy, sz in _HEX_CORNERS]
+
+
+def _contact_end(i, side):
+    """Centre of one side of a contact: the axis point of a FlexContactGeom (a sphere's centre, the
+    closest point on a cylinder's axis or a facet's midplane), else a sphere's centre, else (a
+    wall, a YADE facet, a box) the contact point."""
+    g = i.geom
+    p = getattr(g, "axis1" if side == 1 else "axis2", None)
+    if p is not None:
+        return _v3(p)
+    b = O.bodies[i.id1 if side == 1 else i.id2]
+    return _v3(b.state.pos if isinstance(b.shape, Sphere) else g.contactPoint)
+
+
+def real_contacts():
+    """The scene's real interactions that carry a contact force (FrictPhys-like physics; a
+    FlexContactGeom contact handed over to a neighbour is left out), in O.interactions' order."""
+    return [i for i in O.interactions if i.isReal and hasattr(i.phys, "normalForce") and getattr(i.geom, "active", True)]
+
+
+def _contacts(vtk, inters, fr):
+    """One line per contact from the centre of body 1's side to body 2's (force chains), contact
+    data on the cells."""
+    pts, rows = [], []
+    bodies = O.bodies
+    for i in inters:  # one pass: each attribute read once
+        g, ph = i.geom, i.phys
+        id1, id2 = i.id1, i.id2
+        pts += [_contact_end(i, 1), _contact_end(i, 2)]
+        p1, p2 = fr.part(bodies[id1]), fr.part(bodies[id2])
+        fn, fs = _v3(ph.normalForce), _v3(ph.shearForce)
+        rows.append((id1, id2, p1, p2, P.contact_kind(p1, p2), _v3(g.contactPoint), _v3(g.normal), fn, fs, _norm(fn), _norm(fs),
+                     _norm([fn[0] + fs[0], fn[1] + fs[1], fn[2] + fs[2]]), getattr(g, "penetrationDepth", float("nan"))))
+    col = list(zip(*rows)) if rows else [()] * 13
+    names = ("id1", "id2", "part1", "part2", "kind", "contactPoint", "normal", "normalForce", "shearForce", "fn", "fs", "force",
+             "penetrationDepth")
+    return _grid(vtk, pts, _VTK_LINE, range(len(pts)), 2,
+                 cell_data=[(n, c, 3 if n in ("contactPoint", "normal", "normalForce", "shearForce") else 1) for n, c in zip(names, col)])
+
+
 _BUILD = {
-    "nodes": lambda vtk, bs: _particles(vtk, bs),
-    "cylinders": lambda vtk, bs: _elements(vtk, bs, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS),
-    "facets": lambda vtk, bs: _elements(vtk, bs, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS),
-    "spheres": lambda vtk, bs: _particles(vtk, bs),
-    "boxes": lambda vtk, bs: _rigid(vtk, bs, _VTK_HEXAHEDRON, _box_corners,
-                                    lambda bs_: [("extents", [tuple(b.shape.extents) for b in bs_], 3)]),
-    "rigid_facets": lambda vtk, bs: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: []),
+    "nodes": lambda vtk, bs, fr: _particles(vtk, bs, fr),
+    "cylinders": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS, fr, "cylinders"),
+    "facets": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS, fr, "facets"),
+    "spheres": lambda vtk, bs, fr: _particles(vtk, bs, fr),
+    "clumps": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _clump_corners,
+                                         lambda bs_: [("mass", [b.state.mass for b in bs_], 1)], fr),
+    "boxes": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _box_corners,
+                                        lambda bs_: [("extents", [_v3(b.shape.extents) for b in bs_], 3)], fr),
+    "rigid_facets": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: [], fr),
+    "contacts": lambda vtk, inters, fr: _contacts(vtk, inters, fr),
 }
 
 
 def _group_of(shape):
     # FlexNode, FlexCylinder and FlexFacet derive from Shape only, so the order does not matter.
     for cls, g in ((FlexNode, "nodes"), (FlexCylinder, "cylinders"), (FlexFacet, "facets"), (Sphere, "spheres"),
-                   (Box, "boxes"), (Facet, "rigid_facets")):
+                   (Clump, "clumps"), (Box, "boxes"), (Facet, "rigid_facets")):
         if isinstance(shape, cls):
             return g
     return None
 
 
 def scene_groups():
-    """dict group -> list of bodies (in id order) of the current scene; only non-empty groups."""
+    """dict group -> list of bodies (in id order) of the current scene, and 'contacts' -> list of
+    real_contacts(); only non-empty groups."""
     out = {}
     for b in O.bodies:
         if b is None:
@@ -191,12 +311,16 @@ def scene_groups():
         g = _group_of(b.shape)
         if g is not None:
             out.setdefault(g, []).append(b)
+    contacts = real_contacts()
+    if contacts:
+        out["contacts"] = contacts
     return out
 
 
-def _write_vtu(vtk, grid, path):
+def _write_vtu(vtk, grid, path, time):
     fd = grid.GetFieldData()
-    fd.AddArray(_array(vtk, "TimeValue", [O.time]))
+    fd.AddArray(_array(vtk, "TimeValue", [time]))
+    fd.AddArray(_array(vtk, "SceneTime", [O.time]))
     it = vtk["vtkIntArray"]()
     it.SetName("Iteration")
     it.InsertNextValue(O.iter)
@@ -235,17 +359,19 @@ def _check_every(every):
     return every
 
 
-def write_vtk_snapshot(folder, name):
+def write_vtk_snapshot(folder, name, parts=None):
     """One frame: FOLDER/NAME_GROUP.vtu for each non-empty group and FOLDER/NAME.pvd listing them
-    at O.time. Returns dict group -> path, plus 'pvd'."""
+    at O.time. parts: body id -> part id (default yadeflex.parts.scene_parts()). No broken
+    elements (they need the history a VtkRecorder keeps). Returns dict group -> path, plus 'pvd'."""
     vtk = _vtk()
     _check_name("snapshot name", name)
     os.makedirs(folder, exist_ok=True)
     paths, datasets = {}, []
     groups = scene_groups()
+    fr = _Frame(parts)
     for part, g in enumerate(x for x in GROUPS if x in groups):
         fn = f"{name}_{g}.vtu"
-        _write_vtu(vtk, _BUILD[g](vtk, groups[g]), os.path.join(folder, fn))
+        _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), os.path.join(folder, fn), float(O.time))
         paths[g] = os.path.join(folder, fn)
         datasets.append((float(O.time), part, g, fn))
     paths["pvd"] = os.path.join(folder, name + ".pvd")
@@ -279,6 +405,14 @@ class _Periodic:
                         command=f"import yadeflex.output as _yfo; _yfo._REGISTRY[{self._key}]()")
 
 
+def _ruptured_ids():
+    """Ids of the elements FlexElementEngine erased as ruptured (empty without the engine)."""
+    for e in O.engines:
+        if type(e).__name__ == "FlexElementEngine":
+            return set(e.rupturedIds)
+    return set()
+
+
 class VtkRecorder(_Periodic):
     """VTK time series of the scene: FOLDER/PREFIX.pvd and per frame FOLDER/PREFIX_GROUP_NNNNNN.vtu.
 
@@ -287,15 +421,23 @@ class VtkRecorder(_Periodic):
     path of the frame written (the shared empty file for groups without bodies), or None if it
     did not write. An earlier series with the same prefix in the folder (its .pvd and frames,
     files_pattern(prefix)) is removed when the recorder is made, so that no frame of it stays next
-    to the new ones. See the module docstring for the groups, their data and the empty-group rule."""
+    to the new ones. time_origin [s]: the series' time (the .pvd's timesteps, TimeValue) is
+    O.time - time_origin; SceneTime holds O.time. parts: body id -> part id (yadeflex.parts; default
+    scene_parts() at each frame). Elements erased as ruptured (FlexElementEngine.rupturedIds) stay
+    in later frames with broken = 1. See the module docstring for the groups and their data."""
 
-    def __init__(self, folder, prefix="flex", every=1):
+    def __init__(self, folder, prefix="flex", every=1, time_origin=0.0, parts=None):
         super().__init__(every)
+        if not (isinstance(time_origin, (int, float)) and math.isfinite(time_origin)):
+            raise ValueError(f"time_origin must be a finite time [s], got {time_origin!r}")
         self.folder = folder
         self.prefix = _check_name("prefix", prefix)
+        self.time_origin = float(time_origin)
+        self.parts = parts
         self.pvd = os.path.join(folder, prefix + ".pvd")
-        self.frames = []  # (time [s], iteration, {group: file name}) of the frames written
+        self.frames = []  # (scene time [s], iteration, {group: file name}) of the frames written
         self.groups = []  # groups seen so far, in GROUPS order
+        self._memory = {"cylinders": {}, "facets": {}}  # elements drawn so far: id -> (node ids, fields, part)
         clear_matching(folder, self.files_pattern(prefix))
         os.makedirs(folder, exist_ok=True)
 
@@ -307,24 +449,41 @@ class VtkRecorder(_Periodic):
     def _empty_file(self, g):
         return f"{self.prefix}_{g}_empty.vtu"
 
+    def _broken(self):
+        """group -> [(id, node ids, fields, part)] of the remembered elements erased as ruptured."""
+        ruptured = _ruptured_ids()
+        out = {}
+        for g, mem in self._memory.items():
+            gone = [i for i in mem if i in ruptured and (i >= len(O.bodies) or O.bodies[i] is None)]
+            if gone:
+                out[g] = [(i,) + mem[i] for i in sorted(gone)]
+        return out
+
     def __call__(self):
         if not self._due():
             return None
         vtk = _vtk()
         groups = scene_groups()
+        broken = self._broken()
+        for g in broken:
+            groups.setdefault(g, [])
         k = len(self.frames)
         files = {}
+        t = float(O.time) - self.time_origin
+        parts = P.scene_parts() if self.parts is None else self.parts
         for g in GROUPS:
             if g not in groups:
                 continue
             files[g] = f"{self.prefix}_{g}_{k:06d}.vtu"
-            _write_vtu(vtk, _BUILD[g](vtk, groups[g]), os.path.join(self.folder, files[g]))
+            fr = _Frame(parts, broken, self._memory.get(g))
+            _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), os.path.join(self.folder, files[g]), t)
             if g not in self.groups:
-                _write_vtu(vtk, _BUILD[g](vtk, []), os.path.join(self.folder, self._empty_file(g)))
+                _write_vtu(vtk, _BUILD[g](vtk, [], _Frame(parts)), os.path.join(self.folder, self._empty_file(g)), t)
                 self.groups = [x for x in GROUPS if x in self.groups or x == g]
         self.frames.append((float(O.time), O.iter, files))
         self.last_iter = O.iter
-        datasets = [(t, part, g, fr.get(g, self._empty_file(g))) for t, _, fr in self.frames for part, g in enumerate(self.groups)]
+        datasets = [(ts - self.time_origin, part, g, fr_.get(g, self._empty_file(g)))
+                    for ts, _, fr_ in self.frames for part, g in enumerate(self.groups)]
         _write_pvd(self.pvd, datasets)
         return {g: os.path.join(self.folder, files.get(g, self._empty_file(g))) for g in self.groups}
 
@@ -483,8 +642,8 @@ def plot_energy(csv_path, png_path, title="Energy budget"):
     scale = float(np.max(np.abs(vals))) if vals.size else 0.0
     plt = _pyplot()
     fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, gridspec_kw=dict(height_ratios=(3, 1)))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    cols = [colors[k % len(colors)] for k in range(len(terms))]
+    from .impact_plots import term_colors
+    cols = list(term_colors(len(terms)))
     ax.stackplot(t, np.clip(vals, 0, None), labels=terms, colors=cols, alpha=ENERGY_ALPHA)
     ax.stackplot(t, np.clip(vals, None, 0), colors=cols, alpha=ENERGY_ALPHA)
     ax.plot(t, total, "k-", lw=1.5, label="total (sum)")

@@ -1,13 +1,32 @@
 """YADE's 3D view for scenes with yade-flex elements (needs a display: not with yade -n).
 
 The drawing itself is done by the Gl1 functors of the plugin (pkg/yade/FlexGl.hpp):
-Gl1_FlexCylinder (capsules), Gl1_FlexFacet (membrane triangles), Gl1_FlexNode (off by default).
+Gl1_FlexCylinder (capsules), Gl1_FlexFacet (membrane triangles), Gl1_FlexNode (off by default),
+each in its shape's color unless coloured by force; color_by_part sets those colours.
 """
 import math
 
 from yade import O
 from yade.minieigenHP import Vector3
 from yade.wrapper import FlexNode, Sphere
+
+from . import parts as P
+
+
+def color_by_part(parts=None):
+    """Set every body's shape.color to its part's colour (yadeflex.parts.COLORS: mesh blue, rings
+    red, rope teal, lining green, slab grey, grains sand, boulder magenta: a clump's member
+    spheres). parts: body id -> part id (default yadeflex.parts.scene_parts()). Returns dict part
+    name -> number of bodies coloured."""
+    table = P.scene_parts() if parts is None else parts
+    count = {}
+    for b in O.bodies:
+        if b is None or b.shape is None:
+            continue
+        name = P.PARTS[P.part_of(b, table)]
+        b.shape.color = Vector3(*P.COLORS[name])
+        count[name] = count.get(name, 0) + 1
+    return count
 
 
 def scene_box():
@@ -33,19 +52,23 @@ def scene_box():
     return Vector3(*lo), Vector3(*hi)
 
 
-def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 0, 1)):
+def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 0, 1), color_parts=True):
     """Open YADE's 3D view (or take the one open) on the whole scene and return it.
 
-    color_by_force: colour cylinders by axial force and facets by n1 (blue: compression,
-    grey: zero, red: tension; range +- the largest value in the scene, or set
-    Gl1_FlexCylinder.forceRange / Gl1_FlexFacet.forceRange). show_nodes: draw the nodes as
-    spheres of their radius. direction, up: viewing direction and the direction shown up."""
+    color_parts: colour every body by its part first (color_by_part; False keeps the shapes'
+    colours). color_by_force: colour cylinders by axial force and facets by n1 instead (blue:
+    compression, grey: zero, red: tension; range +- the largest value in the scene, or set
+    Gl1_FlexCylinder.forceRange / Gl1_FlexFacet.forceRange); the other bodies keep their part
+    colours. show_nodes: draw the nodes as spheres of their radius. direction, up: viewing
+    direction and the direction shown up."""
     try:
         from yade import qt
     except ImportError as e:
         raise RuntimeError("yadeflex.view needs YADE's Qt GUI: run yade without -n, on a display (or under xvfb-run)") from e
     from yade.wrapper import Gl1_FlexCylinder, Gl1_FlexFacet, Gl1_FlexNode  # here: the package imports with an older plugin
 
+    if color_parts:
+        color_by_part()
     Gl1_FlexCylinder.colorByForce = Gl1_FlexFacet.colorByForce = bool(color_by_force)
     Gl1_FlexNode.show = bool(show_nodes)
     v = qt.views()[0] if qt.views() else qt.View()

@@ -11,6 +11,7 @@ import time
 import pytest
 
 from conftest import REPO
+import yadeflex.output as YO
 
 SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
 
@@ -39,7 +40,10 @@ def test_outputs_exist(small_run):
     for f in ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png"):
         assert (out / f).stat().st_size > 200, f
     s = json.loads((out / "summary.json").read_text())
-    rows = list(csv.DictReader(open(out / "timeseries.csv")))
+    for f in ("timeseries.csv", "energy.csv"):  # every header NAME[UNIT]
+        header = next(csv.reader(open(out / f)))
+        assert all(YO._HEADER.match(h) for h in header), (f, header)
+    rows = [{k.split("[")[0]: v for k, v in r.items()} for r in csv.DictReader(open(out / "timeseries.csv"))]
     assert len(rows) > 50
     # the boulder was stopped: its speed fell from the impact speed to a rebound below it
     assert min(float(r["boulder_vz"]) for r in rows) < -0.9 * s["impact_speed_expected"]

@@ -257,6 +257,128 @@ def test_vtk_bad_arguments(scene, tmp_path):
         yf.VtkRecorder(str(tmp_path), prefix="a/b")
 
 
+def _contact_scene():
+    """A sphere touching a clamped steel chain, a second sphere on the first, a clump of two
+    spheres on the second, each 10 um into the one below: contacts of three kinds, with forces,
+    after two steps."""
+    from yade import utils
+    nodes, cyls = yf.chain([(-0.5, 0, 0), (0.5, 0, 0)], 0.005, yf.steel(), segments=4, fixed=[0, 4])
+    a = S.sphere((0, 0, 0.05499), 0.05)  # each 10 um into the one below
+    b = S.sphere((0, 0, 0.15498), 0.05)
+    mat = O.bodies[a].material
+    zc = 0.15498 + math.sqrt(0.08 ** 2 - 0.02 ** 2) - 1e-5
+    clump = O.bodies.appendClumped([utils.sphere((-0.02, 0, zc), 0.03, material=mat), utils.sphere((0.02, 0, zc), 0.03, material=mat)])[0]
+    O.engines = yf.engines()
+    O.run(2, True)
+    return dict(nodes=nodes, cylinders=cyls, a=a, b=b, clump=clump, members=sorted(O.bodies[clump].shape.members.keys()))
+
+
+def test_vtk_contacts_parts_and_clumps(scene, tmp_path):
+    sc = _contact_scene()
+    P = yf.parts
+    parts = dict.fromkeys(sc["cylinders"] + sc["nodes"], P.PART["mesh"])
+    rec = yf.VtkRecorder(str(tmp_path), parts=parts)
+    files = rec()
+    g = _read(files["contacts"])
+    inters = yf.output.real_contacts()
+    pairs = {tuple(sorted((i.id1, i.id2))) for i in inters}
+    # the sphere on the chain (one owned contact), sphere on sphere, clump members on the sphere
+    assert any(sc["a"] in p and set(p) & set(sc["cylinders"]) for p in pairs)
+    assert (sc["a"], sc["b"]) in pairs and any(sc["b"] in p and set(p) & set(sc["members"]) for p in pairs)
+    assert g.GetNumberOfCells() == len(inters) and g.GetNumberOfPoints() == 2 * len(inters)
+    pts = _points(g)
+    kinds = {}
+    for k, i in enumerate(inters):
+        assert (_cd(g, "id1")[k], _cd(g, "id2")[k]) == (i.id1, i.id2)
+        assert np.array_equal(_cd(g, "normalForce")[k], _vec(i.phys.normalForce))
+        assert np.array_equal(_cd(g, "shearForce")[k], _vec(i.phys.shearForce))
+        assert np.array_equal(_cd(g, "contactPoint")[k], _vec(i.geom.contactPoint))
+        assert np.array_equal(_cd(g, "normal")[k], _vec(i.geom.normal))
+        assert _cd(g, "fn")[k] == pytest.approx(i.phys.normalForce.norm(), rel=1e-14)
+        assert _cd(g, "force")[k] == pytest.approx((i.phys.normalForce + i.phys.shearForce).norm(), rel=1e-14)
+        # the force-chain line joins the two sides' centres, which hold the contact point between them
+        assert np.array_equal(pts[2 * k], _vec(i.geom.axis1)) and np.array_equal(pts[2 * k + 1], _vec(i.geom.axis2))
+        c = _vec(i.geom.contactPoint)
+        seg = pts[2 * k + 1] - pts[2 * k]
+        u = np.dot(c - pts[2 * k], seg) / np.dot(seg, seg)
+        assert -1e-9 < u < 1 + 1e-9 and np.linalg.norm(pts[2 * k] + u * seg - c) < 1e-9
+        kinds[tuple(sorted((i.id1, i.id2)))] = int(_cd(g, "kind")[k])
+    assert min(_cd(g, "fn")) > 1.0  # they press on each other: the forces are not zeros
+    names = {P.contact_kind_name(k) for k in kinds.values()}
+    assert names == {"mesh-grain", "grain-grain", "grain-boulder"}, names
+    assert kinds[(sc["a"], sc["b"])] == 66
+
+    # part ids: given ones, then by shape (clump members: boulder, spheres: grain)
+    sp = _read(files["spheres"])
+    part = dict(zip(_pd(sp, "id"), _pd(sp, "part")))
+    assert part[sc["a"]] == part[sc["b"]] == P.PART["grain"]
+    assert all(part[m] == P.PART["boulder"] for m in sc["members"])
+    cy = _read(files["cylinders"])
+    assert set(_cd(cy, "part")) == {P.PART["mesh"]} and set(_cd(cy, "broken")) == {0}
+    assert set(_pd(_read(files["nodes"]), "part")) == {P.PART["mesh"]}
+    # the clump as the box around its members, in its own frame: 0.1 x 0.06 x 0.06 m
+    cl = _read(files["clumps"])
+    assert cl.GetNumberOfCells() == 1 and cl.GetCellType(0) == 12 and _cd(cl, "id")[0] == sc["clump"]
+    assert _cd(cl, "part")[0] == P.PART["boulder"]
+    f = vtkCellSizeFilter()
+    f.SetInputData(cl)
+    f.Update()
+    assert vtk_to_numpy(f.GetOutput().GetCellData().GetArray("Volume"))[0] == pytest.approx(0.1 * 0.06 * 0.06, rel=1e-9)
+    assert np.allclose(_points(cl).mean(axis=0), _vec(O.bodies[sc["clump"]].state.pos), atol=1e-12)
+
+
+def test_module_parts_from_the_module_ids(scene):
+    P = yf.parts
+    ids = dict(grains=[1, 2], wall=0, rope=[30], rope_nodes=[31], modules=[
+        dict(mesh_cylinders=[10], mesh_nodes=[11, 12], ring_top=[13], ring_bottom=[14], lining=[20], lining_nodes=[21]),
+        dict(mesh_cylinders=[40], mesh_nodes=[41], ring_top=[42], ring_bottom=[43], lining=[44], lining_nodes=[45])])
+    got = P.module_parts(ids)
+    want = {0: "slab", 1: "grain", 2: "grain", 30: "rope", 31: "rope", 10: "mesh", 11: "mesh", 12: "mesh", 13: "ring", 14: "ring",
+            20: "lining", 21: "lining", 40: "mesh", 41: "mesh", 42: "ring", 43: "ring", 44: "lining", 45: "lining"}
+    assert {k: P.PARTS[v] for k, v in got.items()} == want
+    assert P.contact_kind_name(P.contact_kind(P.PART["boulder"], P.PART["grain"])) == "grain-boulder"
+    with pytest.raises(ValueError, match="contact kind"):
+        P.contact_kind_name(76)
+
+
+def test_vtk_broken_elements_stay_as_broken(scene, tmp_path):
+    """An element erased as ruptured stays in the later frames, between its nodes, broken = 1,
+    with no force; the series time counts from time_origin and SceneTime is O.time."""
+    mat = yf.steel(tensile_strength=400e6)
+    s = S.cantilever(segments=3, length=0.3, radius=0.002, load="axial", force=0.0, material=mat)
+    O.forces.setPermF(s["tip"], Vector3(1.2 * 400e6 * math.pi * 0.002 ** 2, 0, 0))
+    el = next(e for e in O.engines if type(e).__name__ == "FlexElementEngine")
+    dt0 = O.dt
+    t0 = O.time + 5 * dt0
+    rec = yf.VtkRecorder(str(tmp_path), time_origin=t0)
+    rec()
+    for _ in range(20000):
+        O.step()
+        if el.nRuptured:
+            break
+    assert el.nRuptured == 1
+    broken = el.rupturedIds[0]
+    rec()
+    O.step()
+    last = rec()
+    g = _read(last["cylinders"])
+    ids, br = list(_cd(g, "id")), _cd(g, "broken")
+    assert sorted(ids) == sorted(s["cylinders"]) and O.bodies[broken] is None
+    k = ids.index(broken)
+    assert br[k] == 1 and sum(br) == 1 and _cd(g, "axialForce")[k] == 0.0 and _cd(g, "radius")[k] == 0.002
+    n1, n2 = (O.bodies[s["nodes"][j]] for j in (s["cylinders"].index(broken), s["cylinders"].index(broken) + 1))
+    pid, pos = _pd(g, "id"), _points(g)
+    ends = _cell_point_ids(g, k)
+    assert [pid[j] for j in ends] == [n1.id, n2.id]
+    assert np.array_equal(pos[ends[0]], _vec(n1.state.pos)) and np.array_equal(pos[ends[1]], _vec(n2.state.pos))
+    times = [t for t, _ in _frames(rec.pvd)]
+    assert times[0] == pytest.approx(-5 * dt0, rel=1e-12) and times[-1] == O.time - t0
+    fd = g.GetFieldData()
+    assert vtk_to_numpy(fd.GetArray("TimeValue"))[0] == O.time - t0 and vtk_to_numpy(fd.GetArray("SceneTime"))[0] == O.time
+    with pytest.raises(ValueError, match="time_origin"):
+        yf.VtkRecorder(str(tmp_path / "x"), time_origin=float("nan"))
+
+
 # ---- energy CSV and plots ------------------------------------------------------------------------
 
 def _energy_run(tmp_path, steps=400, every=20):
@@ -316,6 +438,30 @@ def _colour_fraction(png, colour, alpha):
     return float(np.mean(np.all(np.abs(img - want) < 0.02, axis=-1)))
 
 
+def matplotlib_rgb(c):
+    import matplotlib.colors
+    return matplotlib.colors.to_rgb(c)
+
+
+def test_energy_term_colours_are_distinct():
+    """The main job books 13 energy terms or more: no two share a colour (with the line style)."""
+    from yadeflex.impact_plots import term_colors, term_styles
+    for n in (3, 10, 13, 20, 27):
+        styled = {(tuple(np.round(matplotlib_rgb(c), 6)), ls) for c, ls in zip(term_colors(n), term_styles(n))}
+        colours = {tuple(np.round(matplotlib_rgb(c), 6)) for c in term_colors(n)}
+        assert len(colours) == len(styled) == n, n
+
+
+def test_csv_stream_headers_carry_units(tmp_path):
+    from yadeflex.files import CsvStream
+    s = CsvStream(str(tmp_path / "a.csv"), first=("t",), units=dict(t="s", f="N"))
+    s.append(dict(t=0.0, f=1.0))
+    s.append(dict(t=0.1, f=2.0, n=3))  # a new column: the header is rewritten, with units where known
+    s.close()
+    names, units, cols = yf.read_csv(str(tmp_path / "a.csv"))
+    assert names == ["t", "f", "n"] and units == dict(t="s", f="N", n="") and list(cols["f"]) == [1.0, 2.0]
+
+
 def test_plots(scene, tmp_path):
     rec, _ = _energy_run(tmp_path)
     info = yf.plot_energy(rec.path, str(tmp_path / "energy.png"))
@@ -330,6 +476,8 @@ def test_plots(scene, tmp_path):
     assert set(big) == {"kinetic", "gravWork"}
     for n in big:
         assert _colour_fraction(str(tmp_path / "energy.png"), info["colors"][n], yf.output.ENERGY_ALPHA) > 0.02, n
+
+    assert len({tuple(np.round(matplotlib_rgb(c), 6)) for c in info["colors"].values()}) == len(info["terms"])
 
     png = yf.plot_timeseries(rec.path, ["kinetic", "total[J]"], str(tmp_path / "ts.png"), title="t")
     assert os.path.getsize(png) > 15e3

@@ -157,6 +157,56 @@ def test_drawing_while_running(shots):
     assert _count(r["green"], boxes["chain"]) > 0 and _count(r["blue"], boxes["sheet"]) > 0
 
 
+@pytest.fixture(scope="module")
+def part_shots(tmp_path_factory):
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("xvfb-run not found (Debian package xvfb): the 3D view needs an X server")
+    out = str(tmp_path_factory.mktemp("view_parts"))
+    run_yade(os.path.join(HERE, "scripts", "view_parts.py"), args=[out], timeout=120, display=True)
+    with open(os.path.join(out, "parts.json")) as f:
+        info = json.load(f)
+    imgs = {n: _load(out, n) for n in ("parts", "force", "none")}
+    return dict(info=info, imgs=imgs)
+
+
+def _part_pixels(img, background, rgb):
+    """Pixels drawn (not the empty view's) in the hue of rgb, at least half its saturation: lighting
+    scales a colour and keeps its hue."""
+    from matplotlib.colors import rgb_to_hsv
+    hsv = rgb_to_hsv(img / 255.0)
+    h0, s0, _ = rgb_to_hsv(np.array(rgb, dtype=float))
+    dh = np.abs(hsv[..., 0] - h0)
+    dh = np.minimum(dh, 1 - dh)
+    fg = np.abs(img - background).max(axis=2) > 0
+    return fg & (dh < 0.04) & (hsv[..., 1] > 0.5 * s0) & (hsv[..., 2] > 0.15)
+
+
+def test_view_colours_the_parts(part_shots):
+    """Ring, mesh, rope, lining, grains, boulder left to right, each in its part's colour."""
+    P = yf.parts
+    info, imgs = part_shots["info"], part_shots["imgs"]
+    assert info["counts"] == {"ring": 24, "mesh": 13 + 24, "rope": 13, "lining": 16 * 2 + 25, "grain": 2, "boulder": 9}
+    names = ("ring", "mesh", "rope", "lining", "grain", "boulder")
+    masks = {n: _part_pixels(imgs["parts"], imgs["none"], P.COLORS[n]) for n in names}
+    counts = {n: int(m.sum()) for n, m in masks.items()}
+    assert all(c > 150 for c in counts.values()), counts
+    # where they stand: left to right in the order built (x of each part's pixels, median)
+    xs = [float(np.median(np.nonzero(masks[n])[1])) for n in names]
+    assert xs == sorted(xs), dict(zip(names, xs))
+
+
+def test_view_colour_by_force_recolours_the_elements_only(part_shots):
+    P = yf.parts
+    info, imgs = part_shots["info"], part_shots["imgs"]
+    assert max(info["mesh_forces"]) > 0
+    parts = {n: int(_part_pixels(imgs["parts"], imgs["none"], P.COLORS[n]).sum()) for n in P.COLORS}
+    force = {n: int(_part_pixels(imgs["force"], imgs["none"], P.COLORS[n]).sum()) for n in P.COLORS}
+    for n in ("ring", "mesh", "rope", "lining"):  # by force: red, grey, blue; not their part colours (red ring aside)
+        assert force[n] < (0.5 if n == "ring" else 0.1) * parts[n], (n, force[n], parts[n])
+    for n in ("grain", "boulder"):
+        assert force[n] > 0.9 * parts[n], (n, force[n], parts[n])
+
+
 def test_without_a_display_the_view_says_so(scene):
     # in-process YADE runs without GUI, like yade -n
     with pytest.raises(RuntimeError, match="Qt GUI"):

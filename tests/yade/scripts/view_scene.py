@@ -34,7 +34,7 @@ mid.color, mid.radius = Vector3(1, 1, 0), 0.03  # display radius only
 O.engines = yf.engines()
 O.run(1, True)  # bounds
 
-v = yf.view()
+v = yf.view(color_parts=False)  # the colours set above
 v.timeDisp = ""  # no text overlay
 r = qt.Renderer()
 info = {"screen": list(v.screenSize)}

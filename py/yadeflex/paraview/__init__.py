@@ -1,0 +1,55 @@
+"""ParaView for yade-flex runs: open_run.py (a pvpython script and ParaView macro) opens a
+results folder with colours, tubes and glyphs set, and renders frames to PNG; this module finds
+pvpython and runs it (for scripts/movie.py and the tests).
+
+pvpython comes with Debian's paraview package. On Debian 12 that package's python3-paraview
+conflicts with python3-vtk9, which yade-flex's VTK writer needs (installing paraview removes
+python3-vtk9). Both can live on one machine with paraview unpacked beside the system rather
+than installed: `apt-get download paraview python3-paraview` and `dpkg -x` both into DIR; then
+set YADEFLEX_PVPYTHON=DIR/usr/bin/pvpython (its libraries and Python modules are found under DIR).
+"""
+import os
+import shutil
+import subprocess
+
+OPEN_RUN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "open_run.py")
+
+
+def pvpython():
+    """(command, environment) to run pvpython, or None if there is none: YADEFLEX_PVPYTHON (a
+    pvpython, installed or unpacked; an unpacked one gets its libraries and modules), else
+    pvpython on PATH. The command runs under xvfb-run when there is no DISPLAY (Debian's
+    ParaView renders through X, also offscreen)."""
+    env = dict(os.environ)
+    exe = os.environ.get("YADEFLEX_PVPYTHON") or shutil.which("pvpython")
+    if not exe or not os.access(exe, os.X_OK):
+        return None
+    prefix = os.path.dirname(os.path.dirname(os.path.abspath(exe)))  # DIR/usr
+    if prefix != "/usr":
+        libs = os.path.join(prefix, "lib", "x86_64-linux-gnu")
+        mods = os.path.join(prefix, "lib", "python3", "dist-packages")
+        env["LD_LIBRARY_PATH"] = os.pathsep.join(p for p in (libs, env.get("LD_LIBRARY_PATH")) if p)
+        env["PYTHONPATH"] = mods  # its own vtkmodules, not the system's
+    cmd = [exe, "--force-offscreen-rendering"]
+    if not env.get("DISPLAY"):
+        xvfb = shutil.which("xvfb-run")
+        if xvfb is None:
+            return None
+        cmd = [xvfb, "-a", "-s", "-screen 0 1600x1200x24"] + cmd
+    return cmd, env
+
+
+def run_open_run(args, timeout=600):
+    """Run open_run.py with args under pvpython; returns the CompletedProcess (text output).
+    Raises RuntimeError if there is no pvpython (see pvpython())."""
+    found = pvpython()
+    if found is None:
+        raise RuntimeError("no pvpython: install Debian's paraview (it removes python3-vtk9, see yadeflex.paraview), "
+                           "or set YADEFLEX_PVPYTHON; without a display xvfb-run is needed too")
+    cmd, env = found
+    for _ in range(3):
+        r = subprocess.run(cmd + [OPEN_RUN] + [str(a) for a in args], capture_output=True, text=True, timeout=timeout, env=env)
+        # xvfb-run -a can pick a display another xvfb-run takes at the same moment: try again
+        if "bad X server connection" not in r.stderr:
+            break
+    return r
