@@ -256,7 +256,8 @@ def run_outcome(folder):
         return DONE, task, summary
     if rc == 3:
         return "residual", task, summary
-    return summary.get("status") or "failed", task, summary
+    status = summary.get("status")
+    return (status if status in ("unstable", "interrupted", "failed") else "failed"), task, summary
 
 
 def result_row(run, folder):
