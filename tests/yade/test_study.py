@@ -210,3 +210,28 @@ def test_killed_worker_loses_only_its_run_and_resume_completes_it(local_study, c
     local = read_results(local_study[0])
     for name in (rows[0]["name"], victim):
         assert_same_run(table[name], local[name])
+
+
+def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
+    from yadeflex.study_task import run_task
+    folder = str(tmp_path / "run")
+    t = dict(name="slow", cmd=["sleep", "30"], folder=folder, status=os.path.join(folder, study.STATUS_FILE), timeout=0.5)
+    t0 = time.time()
+    out = run_task(t)
+    assert time.time() - t0 < 10 and out["timed_out"] and out["exit_status"] == -signal.SIGTERM
+    status, outcome, _ = study.run_outcome(folder)
+    assert status == "timeout" and outcome == out
+
+
+def test_a_run_whose_fill_failed_is_recorded_without_running(tmp_path):
+    from yadeflex.study_task import run_task
+    fill = dict(name="fill-x", cmd=["sh", "-c", "echo 'RuntimeError: the fill did not settle'; exit 1"], folder=str(tmp_path / "fill"),
+                status=str(tmp_path / "fill" / study.STATUS_FILE))
+    assert run_task(fill)["exit_status"] == 1
+    folder = str(tmp_path / "run")
+    out = run_task(dict(name="r", cmd=["touch", str(tmp_path / "ran")], folder=folder, status=os.path.join(folder, study.STATUS_FILE),
+                        after=fill["status"]))
+    assert not (tmp_path / "ran").exists()
+    assert out["skipped"] == f"not run: fill-x failed (RuntimeError: the fill did not settle; log {tmp_path}/fill/log.txt)"
+    row = study.result_row(dict(name="r", row=1, inputs={}), folder)
+    assert (row["status"], row["exit_status"], row["message"]) == ("failed", 1, out["skipped"])
