@@ -279,7 +279,7 @@ def result_row(run, folder):
     row.update(status=status, exit_status=None if task is None else task["exit_status"], message=message,
                run_time_s=s.get("run_time_s"), fill_time_s=s.get("fill_time_s"),
                wall_time_s=None if task is None else task["wall_time_s"], host=None if task is None else task["host"],
-               log=os.path.join(folder, LOG_FILE) if os.path.exists(os.path.join(folder, LOG_FILE)) else None)
+               log=task["log"] if task else os.path.join(folder, LOG_FILE) if os.path.exists(os.path.join(folder, LOG_FILE)) else None)
     return row
 
 

@@ -86,8 +86,6 @@ def write_study_plots(rows, runs, folder):
     ax.set(ylabel="fraction of the impact energy [-]",
            title="energy by mechanism at the end of each run (gravity's work during the impact not drawn)")
     ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    if len(groups) > 1:
-        ax.set_xlabel("; ".join(f"{label}: {', '.join(r['name'] for r in rs)}" for label, rs in groups.items())[:300], fontsize=7)
     fig.tight_layout()
     paths.append(os.path.join(folder, "energy_shares.png"))
     fig.savefig(paths[-1], dpi=110)
