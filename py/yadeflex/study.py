@@ -16,8 +16,9 @@ before anything runs: StudyError lists every bad cell by its row and column.
 Every run is one YADE process with one thread (bitwise reproducible: the same row gives the same
 numbers whatever the backend and the worker count), writing OUT_DIR/runs/NAME/ (the main job's
 files, log.txt, study_run.json). The distinct filled modules are filled first, once each, into
-the module cache (cache_dir: on a cluster, a shared folder), so that every run loads its fill
-(a run that built its own fill would differ by round-off from one that loads it). A run that
+the module cache (the main job's --fill-only; cache_dir: on a cluster, a shared folder), so that
+every run loads its fill (a run that built its own fill would differ by round-off from one that
+loads it); a run whose fill failed is recorded as failed without running. A run that
 fails, crashes or times out is recorded with its status and log, the others go on; resume reruns
 only the rows not done. The results gather into OUT_DIR/results.csv (RESULT_COLUMNS) and plots
 (yadeflex.study_plots).
