@@ -8,7 +8,8 @@
 # and, unless --no-vtk, a VTK time series (vtk/flex.pvd) for ParaView. The files an earlier run
 # wrote there are removed first; the time series are on disk row by row, and summary.json says
 # how the run ended ("status": done, unstable, interrupted, failed; "running" if the process
-# was killed outright), so a run stopped anyhow leaves what it recorded.
+# was killed outright), so a run stopped anyhow leaves what it recorded. --fill-only: only the
+# filled module, into the cache (exit status 0 once it is there, 1 if the fill failed).
 # Exit status (also in --help): 0 done; 1 bad input (one line on stderr names the option and the
 # values allowed; nothing is filled or written), an output folder that cannot be written, or another
 # error; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the
@@ -20,7 +21,7 @@ import sys
 HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("damping_module.py")), os.getcwd())
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 
-from yadeflex.impact import run_impact, PROG  # noqa: E402
+from yadeflex.impact import run_impact, fill_only, PROG  # noqa: E402
 from yadeflex.module_cli import parse, run_settings, OptionError  # noqa: E402
 
 
@@ -31,6 +32,8 @@ def main():
     except OptionError as e:  # every option is checked before anything is filled or built
         print(f"{PROG}: {e}", file=sys.stderr)
         return 1
+    if a.fill_only:
+        return fill_only(p, a.cache_dir)
     return run_impact(p, a.out, cache_dir=a.cache_dir, **run_settings(a))["exit_status"]
 
 

@@ -2,7 +2,8 @@
 bookkeeping.
 
 - run_impact(params, out, ...): the filled module, the boulder and the impact into a results
-  folder, row by row; returns the summary, with the exit status. RunSettings: how it is run and
+  folder, row by row; returns the summary, with the exit status. fill_only: the filled module
+  into the cache, nothing else (the main job's --fill-only). RunSettings: how it is run and
   judged. ImpactRun: one such run; EXIT: its exit status by how it ended.
 - part_names, part_name: which part of the module a body is; BrokenElements: what broke, by kind.
 - ImpactTimes: when the run ends and when it is expected to end; Progress, fill_progress: the
@@ -476,6 +477,22 @@ class ImpactRun:
               f"{law.deepOnsetEnergy:.3g} J, {law.deepEndings} ended overlapping with {law.deepEndingEnergy:.3g} J); results in {self.folder.path}")
         if s["exit_status"] == EXIT["residual"]:
             print(f"{PROG}: {s['message']}", file=sys.stderr)
+
+
+def fill_only(params, cache_dir=None):
+    """The main job's --fill-only: the filled module of params into cache_dir (default
+    ~/.cache/yadeflex/modules), loaded if it is there already; nothing else is run or written.
+    Returns the exit status: EXIT["done"] once the module is in the cache, EXIT["failed"] (the
+    error printed) if it could not be filled or saved."""
+    t0 = time.time()
+    try:
+        _, f, cached = filled_module(params, cache_dir=cache_dir, progress=fill_progress(t0))
+    except Exception as e:  # a fill that does not settle, a cache that cannot be written
+        traceback.print_exc()
+        print(f"{PROG}: {type(e).__name__}: {e}", file=sys.stderr, flush=True)
+        return EXIT["failed"]
+    print(f"filled module {'already in' if cached else 'built and saved to'} {f} ({time.time() - t0:.0f} s)", flush=True)
+    return EXIT["done"]
 
 
 def run_impact(params, out, cache_dir=None, progress=True, **settings):

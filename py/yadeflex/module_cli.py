@@ -101,6 +101,8 @@ def parser():
     ap.add_argument("--cache-dir", default=None, help="folder of the cached filled modules (created); default ~/.cache/yadeflex/modules")
     ap.add_argument("--small", action="store_true", help="the reduced module for tests: 0.4 m x 0.3 m, 60-80 mm grains, 100 kg boulder dropped 1 m")
     ap.add_argument("--no-vtk", action="store_true", help="no VTK time series")
+    ap.add_argument("--fill-only", action="store_true", help="fill the module into the cache (--cache-dir) and stop: no impact, "
+                    "nothing written into --out (a study fills each module once this way before its runs)")
     for name, rng in RUN_LIMITS.items():
         ap.add_argument(_option(name), default=None, metavar="X", help=(rng.text() + ("" if DEFAULTS[name] is None else f"; default {DEFAULTS[name]}")).replace("%", "%%"))
     for f in dataclasses.fields(ModuleParams):

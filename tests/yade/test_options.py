@@ -18,7 +18,7 @@ YADE_BANNER = ("Welcome to Yade", "Using python", "TCP python prompt", "XMLRPC i
 BAD = [
     (["--out", ""], "--out"), (["--out", "/etc/hostname/x"], "--out"), (["--cache-dir", "/etc/hostname"], "--cache-dir"),
     (["--cache-dir"], "--cache-dir"),
-    (["--small=yes"], "--small"), (["--no-vtk=1"], "--no-vtk"),
+    (["--small=yes"], "--small"), (["--no-vtk=1"], "--no-vtk"), (["--fill-only=1"], "--fill-only"),
     (["--duration", "-1"], "--duration"), (["--duration", "nan"], "--duration"), (["--duration", "0"], "--duration"),
     (["--duration", "1e9"], "--duration"), (["--duration", "soon"], "--duration"), (["--duration"], "--duration"),
     (["--record-every", "nan"], "--record-every"), (["--record-every", "0"], "--record-every"), (["--record-every", "-1e-4"], "--record-every"),

@@ -1,0 +1,241 @@
+"""Parametric studies (yadeflex.study, scripts/study): a bad cell is named by its row and column
+before anything runs; a 12-run study of small modules runs through the local backend, each run
+with the inputs of its row and its module filled once; the mpi and slurm backends give the same
+results.csv values; a worker killed loses only its run, a failed run is a result, and --resume
+completes the study."""
+import csv
+import importlib.util
+import json
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import REPO
+from local_slurm import LocalSlurm, unavailable
+from tol import G
+
+from yadeflex import study
+
+STUDY = os.path.join(REPO, "scripts", "study")
+# small modules, a 20 ms impact: about 5 s a run (one fill of 15 s shared by all)
+COMMON = dict(small="yes", no_vtk="yes", duration="0.02")
+GRID = [dict(name=f"m{m}-h{h}", boulder_mass=str(m), drop_height=str(h), **COMMON) for m in (80, 100, 150) for h in (0.5, 1, 1.5, 2)]
+SUBSET = GRID[:4]  # the runs the mpi and slurm backends repeat
+
+
+def write_study(path, rows):
+    cols = list(dict.fromkeys(k for r in rows for k in r))
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=cols, restval="")
+        w.writeheader()
+        w.writerows(rows)
+    return str(path)
+
+
+def read_results(out):
+    with open(os.path.join(out, "results.csv"), newline="") as fh:
+        return {r["name"]: r for r in csv.DictReader(fh)}
+
+
+def assert_same_run(a, b):
+    """Two results.csv rows of the same inputs hold the same values, to the last digit, but for
+    what differs between identical runs (wall times, host, paths) and the row number."""
+    keys = (set(a) & set(b)) - set(study.TIMING_COLUMNS) - {"row"}
+    assert set(study.SUMMARY_COLUMNS) <= keys
+    assert {k: a[k] for k in keys} == {k: b[k] for k in keys}, a["name"]
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return str(tmp_path_factory.mktemp("study_cache"))
+
+
+@pytest.fixture(scope="module")
+def local_study(tmp_path_factory, cache):
+    """The 12-run study through the local backend, two workers."""
+    base = tmp_path_factory.mktemp("study")
+    lines = []
+    out = str(base / "local")
+    rows = study.run_study(write_study(base / "grid.csv", GRID), out, backend="local", workers=2, cache_dir=cache,
+                           progress=lines.append)
+    return out, rows, lines
+
+
+def test_bad_cells_are_named_by_row_and_column_before_anything_runs(tmp_path):
+    bad = [dict(name="ok", small="yes", drop_height="1", fill="gravel"),
+           dict(name="b", small="yes", drop_height="-3", fill="gravel"),
+           dict(name="c", small="maybe", drop_height="1", fill="granite"),
+           dict(name="d", small="yes", drop_height="1", record_every="0.5"),
+           dict(name="ok", small="yes", drop_height="1", repeat="0")]
+    out = tmp_path / "out"
+    with pytest.raises(study.StudyError) as err:
+        study.run_study(write_study(tmp_path / "bad.csv", bad), str(out))
+    assert err.value.errors == [
+        "row 2 (line 3), column drop_height: bad option --drop-height: got -3.0; allowed (0, 127.421] m (an impact speed up to 50 m/s)",
+        "row 3 (line 4), column small: got 'maybe'; allowed true/false/yes/no/1/0",
+        "row 3 (line 4), column fill: bad option --fill: got 'granite'; allowed one of 'cellular_glass', 'gravel', 'sand'",
+        "row 4 (line 5), column record_every: " + err.value.errors[3].split(": ", 1)[1],
+        "row 5 (line 6), column repeat: got '0'; allowed a whole number >= 1",
+        "row 5 (line 6), column name: the run name 'ok' is already row 1's"], err.value.errors
+    assert "bad option --record-every: got 0.5; allowed [1e-06, 0.001] s" in err.value.errors[3]
+    assert not out.exists()  # refused before anything was made or run
+    with pytest.raises(study.StudyError) as err:
+        study.read_study(write_study(tmp_path / "cols.csv", [dict(drop_hieght="1", out="x", small="yes")]))
+    assert err.value.errors[0].startswith("column 'drop_hieght' (line 1): not an option of the main job (allowed: ")
+    assert err.value.errors[1].startswith("column 'out' (line 1): set by the study for every run")
+
+
+def test_repeat_gives_one_run_per_seed(tmp_path):
+    runs = study.read_study(write_study(tmp_path / "r.csv", [dict(name="x", small="yes", seed="5", repeat="3")]))
+    assert [(r["name"], r["inputs"]["seed"], r["argv"][-2:]) for r in runs] == [
+        ("x-s5", "5", ["--seed", "5"]), ("x-s6", "6", ["--seed", "6"]), ("x-s7", "7", ["--seed", "7"])]
+    assert len({r["fill_key"] for r in runs}) == 3  # the seed places the grains
+
+
+def test_progress_eta_is_the_median_run_times_the_rounds_left():
+    lines, tasks = [], [dict(status=f"/nonexistent/{k}") for k in range(7)]
+    p = study.StudyProgress(7, 2, failed_of=lambda t: t is tasks[1], out=lines.append, clock=lambda: 0.0)
+    p.walls = [10.0, 30.0]
+    p.ended(tasks[0])
+    p.ended(tasks[1])
+    p.walls.append(20.0)
+    p.show(2)
+    # 5 runs left on 2 workers: 3 rounds of the median run (20 s)
+    assert lines == ["study: 1 of 7 done, 1 failed, 2 running, ~60 s left"]
+    assert p.show(2) is None  # nothing changed
+
+
+def test_local_study_runs_every_row_with_its_inputs(local_study, cache):
+    out, rows, lines = local_study
+    assert [r["status"] for r in rows] == ["done"] * len(GRID), [(r["name"], r["status"], r["message"]) for r in rows]
+    assert "study: 12 runs, 0 already done, 12 to run (local, 2 workers)" in lines
+    assert lines[-1].startswith("study: 12 of 12 runs done; results in ")
+    table = read_results(out)
+    assert list(table) == [g["name"] for g in GRID]
+    for g in GRID:
+        r = table[g["name"]]
+        m, h = float(g["boulder_mass"]), float(g["drop_height"])
+        # the run got its row's inputs: its impact energy is the boulder's m g h
+        assert math.isclose(float(r["impact_energy"]), m * G * h, rel_tol=1e-12), (g, r["impact_energy"])
+        assert float(r["peak_deceleration"]) == pytest.approx(float(r["peak_impact_force"]) / m, rel=1e-12)
+        for k in ("energy_flexFriction", "broken_lining_facets", "impact_steps", "energy_residual_max_fraction", "slab_force_max"):
+            assert r[k] != "", k
+        assert r["exit_status"] == "0" and os.path.exists(r["log"])
+        summary = json.load(open(os.path.join(out, "runs", g["name"], "summary.json")))
+        assert summary["filled_from_cache"] is True  # filled once before the runs, loaded by each
+    # one distinct module, filled once
+    assert len(os.listdir(os.path.join(out, "fills"))) == 1
+    assert len([f for f in os.listdir(cache) if f.endswith(".yade.gz")]) == 1
+    # more energy at the same mass goes deeper (the peak force of a few grains under the boulder
+    # scatters between neighbouring inputs: 71 kN from 1.5 m, 70 kN from 2 m at 100 kg)
+    for m in (80, 100, 150):
+        v = [float(table[g["name"]]["penetration_max"]) for g in GRID if g["boulder_mass"] == str(m)]
+        assert v == sorted(v), (m, v)
+    for f in ("response.png", "energy_shares.png", "surface.png"):  # two inputs vary: the surface too
+        assert os.path.getsize(os.path.join(out, f)) > 10000, f
+
+
+def _same_as_local(local_study, out):
+    local = read_results(local_study[0])
+    got = read_results(out)
+    assert list(got) == [g["name"] for g in SUBSET]
+    for name, row in got.items():
+        assert row["status"] == "done", row
+        assert_same_run(row, local[name])
+
+
+def test_mpi_backend_gives_the_local_results(local_study, cache, tmp_path):
+    if importlib.util.find_spec("mpi4py") is None or shutil.which("mpirun") is None:
+        pytest.skip("the mpi backend needs mpirun (Open MPI) and Debian's python3-mpi4py")
+    out = str(tmp_path / "mpi")
+    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", "3", STUDY, write_study(tmp_path / "s.csv", SUBSET), out,
+           "--backend", "mpi", "--cache-dir", cache]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    assert "(mpi, 2 workers)" in res.stdout
+    _same_as_local(local_study, out)
+
+
+def test_slurm_backend_gives_the_local_results(local_study, cache, tmp_path, monkeypatch):
+    why = unavailable()
+    if why:
+        pytest.skip(why)
+    out = str(tmp_path / "slurm")
+    with LocalSlurm(tmp_path / "slurm-cluster") as cluster:
+        for k, v in cluster.env.items():
+            monkeypatch.setenv(k, v)
+        lines = []
+        study.run_study(write_study(tmp_path / "s.csv", SUBSET), out, backend="slurm", cache_dir=cache,
+                        slurm=study.Slurm(poll=1.0), progress=lines.append)
+    assert any(line.startswith("study: Slurm job ") for line in lines), lines
+    assert os.path.exists(os.path.join(out, "slurm", "yadeflex-study.sbatch"))
+    _same_as_local(local_study, out)
+
+
+def test_killed_worker_loses_only_its_run_and_resume_completes_it(local_study, cache, tmp_path):
+    rows = [dict(GRID[5]), dict(GRID[6], name="tight", max_residual="1e-4"), dict(GRID[7])]
+    f = write_study(tmp_path / "k.csv", rows)
+    out = str(tmp_path / "k")
+    victim = rows[2]["name"]
+    proc = subprocess.Popen([sys.executable, os.path.join(REPO, "scripts", "study.py"), f, out, "--workers", "2", "--cache-dir", cache],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    summary = os.path.join(out, "runs", victim, "summary.json")
+    t0 = time.time()
+    while not os.path.exists(summary):
+        assert proc.poll() is None and time.time() - t0 < 300, "the victim's run never started"
+        time.sleep(0.05)
+    pid = json.load(open(summary))["pid"]  # the run's YADE process; its parent is the worker (study_task)
+    with open(f"/proc/{pid}/stat") as fh:
+        worker = int(fh.read().rsplit(")", 1)[1].split()[1])
+    os.kill(worker, signal.SIGKILL)
+    log, _ = proc.communicate(timeout=300)
+    assert proc.returncode == study.EXIT_RUNS_FAILED, log
+    table = read_results(out)
+    assert table[rows[0]["name"]]["status"] == "done"
+    assert table["tight"]["status"] == "residual" and table["tight"]["exit_status"] == "3"
+    assert table["tight"]["message"].startswith("energy balance residual "), table["tight"]
+    assert table[victim]["status"] == "crashed" and "killed with its worker" in table[victim]["message"], table[victim]
+    assert json.load(open(summary))["status"] == "running"  # the run died with its worker
+    kept = os.path.join(out, "runs", rows[0]["name"], study.STATUS_FILE)
+    stamp = os.stat(kept).st_mtime_ns
+
+    res = subprocess.run([STUDY, f, out, "--resume", "--workers", "2", "--cache-dir", cache], capture_output=True, text=True, timeout=300)
+    assert res.returncode == study.EXIT_RUNS_FAILED, res.stdout + res.stderr  # (the tight row fails again)
+    assert "study: 3 runs, 1 already done, 2 to run" in res.stdout
+    assert os.stat(kept).st_mtime_ns == stamp  # the run done was not run again
+    table = read_results(out)
+    assert table["tight"]["status"] == "residual"
+    local = read_results(local_study[0])
+    for name in (rows[0]["name"], victim):
+        assert_same_run(table[name], local[name])
+
+
+def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
+    from yadeflex.study_task import run_task
+    folder = str(tmp_path / "run")
+    t = dict(name="slow", cmd=["sleep", "30"], folder=folder, status=os.path.join(folder, study.STATUS_FILE), timeout=0.5)
+    t0 = time.time()
+    out = run_task(t)
+    assert time.time() - t0 < 10 and out["timed_out"] and out["exit_status"] == -signal.SIGTERM
+    status, outcome, _ = study.run_outcome(folder)
+    assert status == "timeout" and outcome == out
+
+
+def test_a_run_whose_fill_failed_is_recorded_without_running(tmp_path):
+    from yadeflex.study_task import run_task
+    fill = dict(name="fill-x", cmd=["sh", "-c", "echo 'RuntimeError: the fill did not settle'; exit 1"], folder=str(tmp_path / "fill"),
+                status=str(tmp_path / "fill" / study.STATUS_FILE))
+    assert run_task(fill)["exit_status"] == 1
+    folder = str(tmp_path / "run")
+    out = run_task(dict(name="r", cmd=["touch", str(tmp_path / "ran")], folder=folder, status=os.path.join(folder, study.STATUS_FILE),
+                        after=fill["status"]))
+    assert not (tmp_path / "ran").exists()
+    assert out["skipped"] == f"not run: fill-x failed (RuntimeError: the fill did not settle; log {tmp_path}/fill/log.txt)"
+    row = study.result_row(dict(name="r", row=1, inputs={}), folder)
+    assert (row["status"], row["exit_status"], row["message"], row["log"]) == ("failed", 1, out["skipped"], f"{tmp_path}/fill/log.txt")
