@@ -42,7 +42,7 @@ def ours_sheet(n, ref):
     """Our side of bp.sheet(n): the same mesh (bp.grid_mesh), materials and sphere."""
     O.reset()
     pts, tris, border = bp.grid_mesh(n, 1.0)
-    mat = yf.membrane_material(30e3, 0.4, poisson=0.3, tension_only=False, contact_young=ref["young_contact"], friction_deg=30.0)
+    mat = yf.membrane_material(30e3, 0.4, poisson=0.3, tension_only=False, young=ref["young_contact"], friction_deg=30.0)
     nodes, facets = yf.triangle_mesh(pts, tris, mat, 0.004, fixed=border)
     R, m = 0.1, 5.0
     s = S.sphere((0.5, 0.5, 0.002 + R + 0.005), R, density=m / (4 / 3 * math.pi * R ** 3), young=1e9, friction_deg=30.0,
@@ -55,7 +55,7 @@ def ours_bumpy(n, ref):
     O.reset()
     k = 2 * math.pi / 0.5
     pts, tris, _ = bp.grid_mesh(n, 1.0, lambda x, y: 0.005 * math.sin(k * x) * math.sin(k * y))
-    mat = yf.membrane_material(30e3, 0.4, poisson=0.3, tension_only=False, contact_young=1e9, friction_deg=30.0, contact_ratio=0.3)
+    mat = yf.membrane_material(30e3, 0.4, poisson=0.3, tension_only=False, young=1e9, friction_deg=30.0, contact_ratio=0.3)
     nodes, facets = yf.triangle_mesh(pts, tris, mat, 0.004, fixed=list(range(len(pts))))
     R = 0.05
     x0, y0 = 2 * R, 0.5 + 0.5 / 8

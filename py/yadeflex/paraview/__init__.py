@@ -7,21 +7,24 @@ conflicts with python3-vtk9, which yade-flex's VTK writer needs (installing para
 python3-vtk9). Both can live on one machine with paraview unpacked beside the system rather
 than installed: `apt-get download paraview python3-paraview` and `dpkg -x` both into DIR; then
 set YADEFLEX_PVPYTHON=DIR/usr/bin/pvpython (its libraries and Python modules are found under DIR).
+scripts/setup does this into UNPACKED (as root), which is looked at last.
 """
 import os
 import shutil
 import subprocess
 
 OPEN_RUN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "open_run.py")
+UNPACKED = "/opt/yadeflex-paraview/usr/bin/pvpython"  # where scripts/setup unpacks ParaView
 
 
 def pvpython():
     """(command, environment) to run pvpython, or None if there is none: YADEFLEX_PVPYTHON (a
     pvpython, installed or unpacked; an unpacked one gets its libraries and modules), else
-    pvpython on PATH. The command runs under xvfb-run when there is no DISPLAY (Debian's
+    pvpython on PATH, else the one scripts/setup unpacked (UNPACKED). The command runs under
+    xvfb-run when there is no DISPLAY (Debian's
     ParaView renders through X, also offscreen)."""
     env = dict(os.environ)
-    exe = os.environ.get("YADEFLEX_PVPYTHON") or shutil.which("pvpython")
+    exe = os.environ.get("YADEFLEX_PVPYTHON") or shutil.which("pvpython") or (UNPACKED if os.path.exists(UNPACKED) else None)
     if not exe or not os.access(exe, os.X_OK):
         return None
     prefix = os.path.dirname(os.path.dirname(os.path.abspath(exe)))  # DIR/usr
