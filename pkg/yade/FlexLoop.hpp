@@ -57,6 +57,7 @@
 // The skip of marked pairs does not look at the bodies' MPI subdomains: YADE's MPI mode is not
 // supported here (nor anywhere in yade-flex). InteractionLoop's warning for a geometry functor
 // that returns false on a real interaction is not printed (the interaction is reset all the same).
+#pragma once
 #include "FlexPch.hpp"
 #include "FlexForces.hpp"
 #include "FlexTuning.hpp"

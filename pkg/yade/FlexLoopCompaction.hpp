@@ -1,0 +1,59 @@
+// yade-flex adapter: FlexInteractionLoop's compaction of the contacts (compactEvery): copies of
+// their geometry and physics side by side in one block of memory, in the order the loop visits
+// them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
+#pragma once
+#include "Flex.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <new>
+#include <typeinfo>
+
+namespace yade {
+namespace flexa {
+	namespace loop {
+		// compactEvery: copies of the contacts' geometry and physics objects, side by side in one
+		// block of memory in the order of the container (which pass 2 follows). Each copy is released
+		// on its own (InBlock runs its destructor), the block with its last copy.
+		struct ContactBlock {
+			std::unique_ptr<unsigned char[]> mem;
+		};
+		struct InBlock {
+			shared_ptr<ContactBlock> block;
+			template <class T> void operator()(T* p) const { p->~T(); }
+		};
+		constexpr size_t kGeomBytes = (sizeof(FlexContactGeom) + 15) & ~size_t(15), kPhysBytes = (sizeof(FrictPhys) + 15) & ~size_t(15);
+		// a yade-flex contact with FrictPhys that nothing but its interaction holds (an object that
+		// Python or another interaction also holds stays where it is: they must keep seeing it live)
+		inline bool movable(const Interaction& I)
+		{
+			return I.geom && I.phys && I.geom.use_count() == 1 && I.phys.use_count() == 1 && typeid(*I.geom) == typeid(FlexContactGeom)
+			        && typeid(*I.phys) == typeid(FrictPhys);
+		}
+		inline long compactContacts(const shared_ptr<Interaction>* intrs, long n)
+		{
+			long count = 0;
+			for (long i = 0; i < n; ++i)
+				count += movable(*intrs[i]);
+			if (count == 0) return 0;
+			const shared_ptr<ContactBlock> block(new ContactBlock);
+			block->mem.reset(new unsigned char[(size_t)count * (kGeomBytes + kPhysBytes) + 64]);
+			unsigned char* at = reinterpret_cast<unsigned char*>((reinterpret_cast<uintptr_t>(block->mem.get()) + 63) & ~uintptr_t(63));
+			for (long i = 0; i < n; ++i) {
+				Interaction& I = *intrs[i];
+				if (!movable(I)) continue;
+				// exact copies (the same values bit for bit); a failed allocation of a shared_ptr's
+				// count runs the deleter and leaves the interaction with its old object
+				FlexContactGeom* g = new (at) FlexContactGeom(static_cast<const FlexContactGeom&>(*I.geom));
+				I.geom             = shared_ptr<IGeom>(g, InBlock { block });
+				at += kGeomBytes;
+				FrictPhys* p = new (at) FrictPhys(static_cast<const FrictPhys&>(*I.phys));
+				I.phys       = shared_ptr<IPhys>(p, InBlock { block });
+				at += kPhysBytes;
+			}
+			return count;
+		}
+
+	} // namespace loop
+} // namespace flexa
+} // namespace yade

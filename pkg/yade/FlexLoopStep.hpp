@@ -1,0 +1,491 @@
+// yade-flex adapter: one step of FlexInteractionLoop's prefetching loop, pass by pass
+// (GPL-2.0-or-later). Included by FlexLoop.cpp only; why and what: FlexLoop.hpp.
+#pragma once
+#include "FlexLoop.hpp"
+#include "FlexLoopFilters.hpp"
+#include "FlexProtocol.hpp"
+#include "FlexTuning.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
+
+namespace yade {
+// One step of the prefetching loop: what its passes share, and the passes.
+class FlexInteractionLoop::Step {
+	using Bodies  = flexa::loop::Bodies;
+	using Marked  = flexa::loop::Marked;
+	using Apart   = flexa::loop::Apart;
+	using Fusable = flexa::loop::Fusable;
+
+public:
+	// what the step reads
+	FlexInteractionLoop&           L;
+	Scene* const                   scene;
+	InteractionContainer&          ic;
+	const shared_ptr<Interaction>* intrs;
+	const long                     n;
+	const Bodies                   bodies;
+	const Matrix3r                 cellH;
+	const long                     block, nBlocks;
+	const long                     kFar, kMid, kNear;
+	const bool                     streamIn; // (the interaction objects asked for ahead)
+	int                            threads = 1;
+	// what the step decided before the loop
+	bool                                          sameFunctors = false;
+	Marked                                        marked;
+	Apart                                         apart;
+	Fusable                                       fusable;
+	Law2_FlexContactGeom_FrictPhys_CundallStrack* fusedLaw = nullptr;
+	const SpherePoint*                            pts      = nullptr;
+	const SphereMotion*                           mot      = nullptr;
+	Remembered*                                   rec      = nullptr;
+	unsigned                                      gen[3]   = { 0, 0, 0 }; // by kind
+	bool                                          weighted = false;
+	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
+	int                                           nSums = 0;
+	// the first exception of any thread; after it the threads stop calling functors
+	std::exception_ptr error;
+	std::mutex         errorMutex;
+	std::atomic<bool>  failed { false };
+	// what a thread counts (summed over the threads)
+	struct Counts {
+		long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+	};
+
+	explicit Step(FlexInteractionLoop& loop)
+	        : L(loop)
+	        , scene(loop.scene)
+	        , ic(*loop.scene->interactions)
+	        , intrs(&ic[0])
+	        , n((long)ic.size())
+	        , bodies { scene->bodies->body.data(), (long)scene->bodies->body.size() }
+	        , cellH(scene->isPeriodic ? Matrix3r(scene->cell->hSize) : Matrix3r(Matrix3r::Zero()))
+	        , block(loop.blockSize)
+	        , nBlocks((n + block - 1) / block)
+	        , kFar(loop.ahead[0])
+	        , kMid(loop.ahead[1])
+	        , kNear(loop.ahead[2])
+	        , streamIn(n >= flexa::kPrefetchMin)
+	{
+#ifdef YADE_OPENMP
+		threads = L.ompThreads > 0 ? std::min(L.ompThreads, omp_get_max_threads()) : omp_get_max_threads();
+#endif
+	}
+
+	// the functors that read the marks and the sphere functors, found again only when the
+	// dispatcher's list changes
+	void findReaders()
+	{
+		sameFunctors = L.seenFunctors.size() == L.geomDispatcher->functors.size();
+		for (size_t k = 0; sameFunctors && k < L.seenFunctors.size(); ++k) {
+			const IGeomFunctor* g = L.geomDispatcher->functors[k].get();
+			sameFunctors          = L.seenFunctors[k].first == g && g && L.seenFunctors[k].second == &typeid(*g);
+		}
+		if (!sameFunctors) {
+			L.seenFunctors.clear();
+			L.markReaders.clear();
+			L.sphereReaders.clear();
+			for (const auto& f : L.geomDispatcher->functors) {
+				const IGeomFunctor* g = f.get();
+				L.seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
+				if (flexa::readsUnreachableMarks(g)) L.markReaders.push_back(g);
+				if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) L.sphereReaders.push_back(g);
+			}
+		}
+		marked = Marked(scene, &L.markReaders);
+	}
+
+	// the functors of the fused sphere-sphere path (fuseSpheres), and quickReject's readers
+	void chooseShortcuts()
+	{
+		if (L.fuseSpheres && !L.sphereReaders.empty() && !scene->isPeriodic) {
+			for (const auto& f : L.physDispatcher->functors)
+				if (f && typeid(*f) == typeid(Ip2_FrictMat_FrictMat_FrictPhys)) {
+					fusable.phys = f.get();
+					break;
+				}
+			for (const auto& f : L.lawDispatcher->functors)
+				if (f && typeid(*f) == typeid(Law2_FlexContactGeom_FrictPhys_CundallStrack)) {
+					fusable.law = f.get();
+					break;
+				}
+			if (fusable.phys && fusable.law) fusable.geoms = &L.sphereReaders;
+		}
+		fusedLaw = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
+		// (the sphere functor throws in periodic scenes: not used there)
+		if (L.quickReject && !L.sphereReaders.empty() && !scene->isPeriodic) apart.readers = &L.sphereReaders;
+	}
+
+	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres)
+	void makeSphereTable()
+	{
+		if (!((apart.readers && L.lastCandidates != 0) || (fusable.geoms && L.lastFusable != 0))) return;
+		L.spherePoints.resize(bodies.n);
+		L.sphereMotion.resize(bodies.n);
+		SpherePoint*  p  = L.spherePoints.data();
+		SphereMotion* mv = L.sphereMotion.data();
+		const long    nb = bodies.n;
+		if (scene != L.sphereIdsScene || nb != L.sphereIdsBodies) { // the list of spheres, again
+			L.sphereIds.clear();
+			for (long id = 0; id < nb; ++id) {
+				p[id].r       = -1;
+				const Body* b = bodies.p[id].get();
+				if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) L.sphereIds.push_back((Body::id_t)id);
+			}
+			L.sphereIdsScene  = scene;
+			L.sphereIdsBodies = nb;
+		}
+		// the listed bodies (each still checked: erased, or its shape replaced: r = -1)
+		const Body::id_t* ids = L.sphereIds.data();
+		const long        ns  = (long)L.sphereIds.size();
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= flexa::tuning::kSphereTableParallelMin)
+#endif
+		for (long k = 0; k < ns; ++k) {
+			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
+				if (const State* st = c.state.get()) {
+					flexa::prefetch(&st->pos, sizeof(Vector3r));
+					flexa::prefetch(&st->vel, sizeof(Vector3r));
+					flexa::prefetch(&st->angVel, sizeof(Vector3r));
+				}
+				flexa::prefetch(c.shape.get(), sizeof(Sphere));
+			});
+			const Body::id_t id = ids[k];
+			SpherePoint&     q  = p[id];
+			q.r                 = -1;
+			const Body* b       = bodies.p[id].get();
+			if (!b) continue;
+			const Shape* sh = b->shape.get();
+			const State* st = b->state.get();
+			if (!sh || !st || typeid(*sh) != typeid(Sphere)) continue;
+			q.x           = st->pos[0];
+			q.y           = st->pos[1];
+			q.z           = st->pos[2];
+			q.r           = static_cast<const Sphere*>(sh)->radius;
+			mv[id].vel    = st->vel;
+			mv[id].angVel = st->angVel;
+		}
+		if (apart.readers) {
+			apart.p = p;
+			apart.n = nb;
+		}
+		if (fusable.geoms) {
+			fusable.p = p;
+			fusable.n = nb;
+		}
+		pts = fusable.p;
+		mot = fusable.p ? L.sphereMotion.data() : nullptr;
+	}
+
+	// rememberSkips: a new generation of records whenever what they were judged against changes.
+	// A sphere pair apart (kind 2) depends only on its interaction object (no contact, the sphere
+	// functor cached; the table is asked again each step), so its records last until the functors,
+	// quickReject, the scene or the container change; a marked pair (kind 1) also on the marks, so
+	// its records also end when the marks are made again or retired, or a collider runs.
+	void startRecords()
+	{
+		if (L.rememberSkips) {
+			const unsigned long marksGen  = marked.valid ? flexa::unreachableMarks().generation : 0;
+			const bool          quick     = apart.readers != nullptr;
+			const bool          newQuick  = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
+			const bool          newMarked = newQuick || marked.valid != L.recMarksValid || marksGen != L.recMarks || ic.iterColliderLastRun != L.recColliderRun;
+			if (newQuick && (scene != L.recScene || &ic != L.recContainer)) L.held.clear(); // (let the old scene's objects go)
+			if (newMarked) {
+				const bool wrap = L.recGen > std::numeric_limits<unsigned>::max() - 2;
+				if (wrap) { // (no old record may match by chance)
+					L.remembered.assign(L.remembered.size(), Remembered());
+					L.recGen = 0;
+				}
+				L.genMarked = ++L.recGen;
+				if (newQuick || wrap) L.genQuick = ++L.recGen;
+				L.recScene       = scene;
+				L.recContainer   = &ic;
+				L.recMarksValid  = marked.valid;
+				L.recMarks       = marksGen;
+				L.recColliderRun = ic.iterColliderLastRun;
+				L.recQuick       = quick;
+			}
+			L.remembered.resize(n);
+			L.held.resize(n);
+			rec = L.remembered.data();
+		} else if (!L.remembered.empty()) {
+			L.remembered.clear();
+			L.held.clear();
+			L.recScene = nullptr;
+		}
+		gen[1] = L.genMarked;
+		gen[2] = L.genQuick;
+	}
+	// whether pass 1 can leave out the pair at i from its record alone (kind 1 still asks whether
+	// its bodies exist, kind 2 the table)
+	const Remembered* recordOf(long i) const
+	{
+		const Remembered& r = rec[i];
+		return (r.kind && r.gen == gen[r.kind] && r.ptr == intrs[i].get()) ? &r : nullptr;
+	}
+
+	// The split of the blocks among the threads: by each block's time on the last step (a block
+	// new since then at the mean), because the work is uneven along the container (the contacts
+	// of the settled fill first, the pairs made during the impact last, element contacts costing
+	// several times a sphere pair). Timings set only which thread sums which forces: the forces
+	// are the same up to round-off, as with any split.
+	void splitByWeight()
+	{
+#ifdef YADE_OPENMP
+		weighted = threads > 1;
+#endif
+		if (!weighted) return;
+		std::vector<Real>& w = L.blockWeight;
+		if ((long)w.size() != nBlocks) { // (a collider run changed the count: new blocks at the mean)
+			Real mean = 0;
+			for (Real x : w)
+				mean += x;
+			mean = w.empty() ? 1 : mean / w.size();
+			w.resize(nBlocks, mean);
+		}
+		prefix.resize(nBlocks + 1);
+		prefix[0] = 0;
+		for (long c = 0; c < nBlocks; ++c)
+			prefix[c + 1] = prefix[c] + w[c];
+	}
+	// the first block of part k of nt (k = nt: nBlocks)
+	long blockAtWeight(int k, int nt) const
+	{
+		if (k <= 0) return 0;
+		if (k >= nt) return nBlocks;
+		if (!weighted) return nBlocks * k / nt;
+		const Real w = prefix[nBlocks] * k / nt;
+		return std::lower_bound(prefix.begin(), prefix.end(), w) - prefix.begin();
+	}
+	// several threads: the yade-flex law's forces into each thread's own sums (flexa::ThreadForceSums)
+	void prepareThreadSums()
+	{
+#ifdef YADE_OPENMP
+		if (L.threadSums && threads > 1 && n >= L.threadSumsMin) nSums = threads;
+#endif
+		if (nSums) L.sums.prepare(nSums, bodies.n);
+		L.usedThreadSums = nSums > 0;
+	}
+
+	void fail(std::exception_ptr e)
+	{
+		std::lock_guard<std::mutex> lock(errorMutex);
+		if (!error) error = e;
+		failed = true;
+	}
+
+	// One thread's share: one contiguous run of blocks, of about equal work by the last step's
+	// weights (handed out one by one, the threads would work on neighbouring blocks and share
+	// their cache lines).
+	void runThread(Counts& cnt)
+	{
+		flexa::ForceSink sink;
+#ifdef YADE_OPENMP
+		if (nSums) sink = L.sums.sink(omp_get_thread_num());
+#endif
+		flexa::ForceSinkScope sinkScope(nSums ? &sink : nullptr);
+		long                  cBegin = 0, cEnd = nBlocks;
+#ifdef YADE_OPENMP
+		{
+			const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
+			cBegin       = blockAtWeight(tid, nt);
+			cEnd         = blockAtWeight(tid + 1, nt);
+		}
+#endif
+		long live[flexa::tuning::kMaxBlock];
+		bool fused[flexa::tuning::kMaxBlock]; // the fused path (fuseSpheres)
+		for (long c = cBegin; c < cEnd; ++c) {
+			if (failed) continue;
+			const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+			const long lo = c * block, hi = std::min(n, lo + block);
+			const int  nLive = listLive(lo, hi, live, fused, cnt);
+			runLive(live, fused, nLive);
+			if (weighted) // this block's time, for the next step's split
+				L.blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
+		}
+	}
+
+	// Pass 1: the block's interaction objects [lo, hi) (streamed in, kFar ahead), and which of
+	// them are left (not marked unreachable, not apart), in their order, into live; fused[j]: the
+	// fused path. The objects are asked for kFar READ objects ahead: those a record leaves out are
+	// neither asked for nor counted. pf: the next place to consider; ahead: the objects asked for
+	// at places in (i, pf).
+	int listLive(long lo, long hi, long* live, bool* fused, Counts& cnt)
+	{
+		int  nLive = 0;
+		long pf = lo, ahead = 0;
+		auto stream = [&]() {
+			for (; ahead < kFar && pf < hi; ++pf)
+				if (!rec || !recordOf(pf)) {
+					flexa::prefetch(intrs[pf].get(), sizeof(Interaction));
+					++ahead;
+				}
+		};
+		if (streamIn) stream();
+		for (long i = lo; i < hi; ++i) {
+			if (rec)
+				if (const Remembered* r = recordOf(i)) {
+					if (r->kind == 1) {
+						if (bodies.get(r->id1) && bodies.get(r->id2)) {
+							++cnt.recalled;
+							continue;
+						}
+					} else if (apart.p) { // kind 2: what apart(J) would find, from the ids
+						++cnt.candidates;
+						if (apart.byIds(r->id1, r->id2) == 2) {
+							++cnt.rejected;
+							++cnt.recalled;
+							continue;
+						}
+						// the spheres close: to pass 2 (no contact yet, so not fusable), and read
+						// again on the next step
+						rec[i].kind   = 0;
+						fused[nLive]  = false;
+						live[nLive++] = i;
+						continue;
+					}
+				}
+			if (streamIn) {
+				if (i < pf && !(rec && recordOf(i))) --ahead; // (this one was asked for)
+				stream();
+			}
+			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
+			const Interaction& J = *intrs[i];
+			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) {
+				if (rec) remember(i, J, 1);
+				continue;
+			}
+			if (const int a = apart(J)) {
+				++cnt.candidates;
+				if (a == 2) {
+					++cnt.rejected;
+					if (rec) remember(i, J, 2);
+					continue;
+				}
+			}
+			if (rec) rec[i].kind = 0;
+			const int fz = fusable(J);
+			cnt.nFusable += fz > 0;
+			cnt.nFused += fz == 2;
+			fused[nLive]  = fz == 2;
+			live[nLive++] = i;
+		}
+		return nLive;
+	}
+	// remember the pair at i, left out without its bodies (rememberSkips)
+	void remember(long i, const Interaction& J, unsigned char kind)
+	{
+		Remembered& r = rec[i];
+		r.ptr         = &J;
+		r.id1         = J.getId1();
+		r.id2         = J.getId2();
+		r.gen         = gen[kind];
+		r.kind        = kind;
+		if (L.held[i].get() != &J) L.held[i] = intrs[i];
+	}
+
+	// Pass 2: the live ones, with their bodies, geom and phys asked for kMid live interactions
+	// ahead and the bodies' states and shapes kNear ahead (a fused contact reads only its geom and
+	// phys, and the tables).
+	void runLive(const long* live, const bool* fused, int nLive)
+	{
+		for (int j = 0; j < std::min(nLive, (int)kMid); ++j)
+			flexa::loop::fetchTargets(intrs[live[j]].get(), bodies, fused[j]);
+		for (int j = 0; j < std::min(nLive, (int)kNear); ++j)
+			if (!fused[j]) flexa::loop::fetchStates(intrs[live[j]].get(), bodies);
+		for (int j = 0; j < nLive && !failed; ++j) {
+			if (j + kMid < nLive) flexa::loop::fetchTargets(intrs[live[j + kMid]].get(), bodies, fused[j + kMid]);
+			if (j + kNear < nLive && !fused[j + kNear]) flexa::loop::fetchStates(intrs[live[j + kNear]].get(), bodies);
+			try {
+				if (fused[j]) runFused(intrs[live[j]]);
+				else
+					runFunctors(intrs[live[j]]);
+			} catch (...) {
+				fail(std::current_exception());
+			}
+		}
+	}
+	// what the functors do for a fused contact (Fusable): the geometry's update, the physics
+	// functor returns at once, the law; shift2 is zero (not periodic)
+	void runFused(const shared_ptr<Interaction>& I)
+	{
+		const Body::id_t   i1 = I->getId1(), i2 = I->getId2();
+		const SpherePoint &a = pts[i1], &b = pts[i2];
+		FlexContactGeom&   g = static_cast<FlexContactGeom&>(*I->geom);
+		Ig2_Sphere_Sphere_FlexContactGeom::update(
+		        scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z), Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel,
+		        mot[i2].vel, mot[i2].angVel);
+		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
+	}
+	// the geometry, physics and law functors of one interaction, as InteractionLoop calls them
+	void runFunctors(const shared_ptr<Interaction>& I)
+	{
+		Body* b1_ = bodies.get(I->getId1());
+		Body* b2_ = bodies.get(I->getId2());
+		if (!b1_ || !b2_) {
+			ic.requestErase(I); // a body vanished
+			return;
+		}
+#ifdef YADE_MPI
+		if (scene->subdomain != b1_->subdomain && scene->subdomain != b2_->subdomain) {
+			ic.requestErase(I->getId1(), I->getId2());
+			return;
+		}
+#endif
+		if (b1_->isClump() || b2_->isClump()) return;
+		if (!I->functorCache.geomExists) return; // no Ig2 functor for this pair of shapes
+		if (!b1_->shape || !b2_->shape) return;
+		bool swap = false;
+		if (!I->functorCache.geom) {
+			I->functorCache.geom = L.geomDispatcher->getFunctor2D(b1_->shape, b2_->shape, swap);
+			if (!I->functorCache.geom) {
+				I->functorCache.geomExists = false;
+				return;
+			}
+		}
+		// the functor takes the bodies in its own order: the interaction is swapped once (its
+		// geom and phys do not exist yet), as InteractionLoop does
+		if (swap) I->swapOrder();
+		Body* const    b1      = swap ? b2_ : b1_;
+		Body* const    b2      = swap ? b1_ : b2_;
+		const bool     wasReal = I->isReal();
+		const Vector3r shift2  = scene->isPeriodic ? Vector3r(cellH * I->cellDist.cast<Real>()) : Vector3r(Vector3r::Zero());
+		if (!I->functorCache.geom->go(b1->shape, b2->shape, *b1->state, *b2->state, shift2, /*force*/ false, I)) {
+			if (wasReal) ic.requestErase(I); // the geometry ended: the interaction is reset
+			return;
+		}
+		if (!I->functorCache.phys) {
+			bool swapPhys        = false;
+			I->functorCache.phys = L.physDispatcher->getFunctor2D(b1->material, b2->material, swapPhys);
+			if (!I->functorCache.phys)
+				throw std::runtime_error(
+				        "FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and " + b2->material->getClassName()
+				        + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+		}
+		I->functorCache.phys->go(b1->material, b2->material, I);
+		if (!wasReal) I->iterMadeReal = scene->iter;
+		if (!I->functorCache.constLaw) {
+			bool swapLaw             = false;
+			I->functorCache.constLaw = L.lawDispatcher->getFunctor2D(I->geom, I->phys, swapLaw);
+			if (!I->functorCache.constLaw)
+				throw std::runtime_error(
+				        "FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and " + I->phys->getClassName() + " (bodies #"
+				        + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+		}
+		if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
+	}
+};
+
+} // namespace yade
