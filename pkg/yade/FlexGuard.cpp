@@ -51,18 +51,18 @@ void FlexGuard::resetPy()
 {
 	message.clear();
 	bodies.clear();
-	detectedIter   = -1;
-	energyStart    = NaN;
-	rawEnergyStart = NaN;
+	detectedIter      = -1;
+	energyStart       = NaN;
+	rawEnergyStart    = NaN;
 	rawEnergyResidual = 0;
-	energyScale    = 0;
-	energyResidual = 0;
-	externalWork   = 0;
-	maxStepSeen    = 0;
-	energyInput    = 0;
-	kineticSeen    = 0;
-	lastWorkIter   = -1;
-	lastEnergyCount = 0;
+	energyScale       = 0;
+	energyResidual    = 0;
+	externalWork      = 0;
+	maxStepSeen       = 0;
+	energyInput       = 0;
+	kineticSeen       = 0;
+	lastWorkIter      = -1;
+	lastEnergyCount   = 0;
 }
 
 void FlexGuard::refresh()
@@ -71,12 +71,14 @@ void FlexGuard::refresh()
 	contactRadius.assign(bs.size(), std::numeric_limits<Real>::infinity());
 	for (const auto& b : bs) {
 		if (!b || !b->shape) continue;
-		if (const auto* s = dynamic_cast<const Sphere*>(b->shape.get())) contactRadius[b->id] = s->radius;
+		if (const auto* s = dynamic_cast<const Sphere*>(b->shape.get()))
+			contactRadius[b->id] = s->radius;
 		else if (const auto* n = dynamic_cast<const FlexNode*>(b->shape.get())) {
 			Real r = std::numeric_limits<Real>::infinity();
 			for (int e : n->elements) {
 				if (e < 0 || e >= (int)bs.size() || !bs[e]) continue;
-				if (const auto* c = dynamic_cast<const FlexCylinder*>(bs[e]->shape.get())) r = std::min(r, c->radius);
+				if (const auto* c = dynamic_cast<const FlexCylinder*>(bs[e]->shape.get()))
+					r = std::min(r, c->radius);
 				else if (const auto* f = dynamic_cast<const FlexFacet*>(bs[e]->shape.get()))
 					r = std::min(r, f->radius);
 			}
@@ -181,11 +183,17 @@ void FlexGuard::action()
 		if (storeNow) storeVelocities();
 		return;
 	}
-	auto& bs = *scene->bodies;
-	if (bs.size() != cachedBodyCount) refresh();
+	if (scene->bodies->size() != cachedBodyCount) refresh();
 	driven.clear();
 	loaded.clear();
 	scene->forces.sync();
+	checkBodies();
+	if (scene->trackEnergy && std::isfinite(energyTolerance)) checkEnergy(storeNow);
+}
+
+void FlexGuard::checkBodies()
+{
+	auto&      bs       = *scene->bodies;
 	const bool permUsed = scene->forces.getPermForceUsed();
 
 	// 1-3: one pass over the bodies; the worst offender of each kind is reported first.
@@ -240,14 +248,12 @@ void FlexGuard::action()
 	maxStepSeen = maxRatio;
 	// the worst body first, then the others in id order
 	auto ordered = [](const Worst& w) {
-		std::vector<Body::id_t> out {w.first};
+		std::vector<Body::id_t> out { w.first };
 		for (Body::id_t id : w.ids)
 			if (id != w.first) out.push_back(id);
 		return out;
 	};
-	auto more = [](const Worst& w) {
-		return w.ids.size() > 1 ? " (" + std::to_string(w.ids.size()) + " bodies in all)" : std::string();
-	};
+	auto more = [](const Worst& w) { return w.ids.size() > 1 ? " (" + std::to_string(w.ids.size()) + " bodies in all)" : std::string(); };
 	if (!nonFinite.ids.empty()) {
 		const std::string extra = nonFinite.ids.size() > 1 ? " (" + std::to_string(nonFinite.ids.size()) + " bodies in all)" : std::string();
 		fail(nonFiniteWhat + extra, nonFinite.ids);
@@ -265,9 +271,11 @@ void FlexGuard::action()
 		os << "body #" << fast.first << " moves at " << fast.value << " m/s > maxSpeed = " << maxSpeed << " m/s" << more(fast);
 		fail(os.str(), ordered(fast));
 	}
+}
 
-	// 4: energy created without external work
-	if (!scene->trackEnergy || !std::isfinite(energyTolerance)) return;
+// 4: energy created without external work
+void FlexGuard::checkEnergy(bool storeNow)
+{
 	const EnergyTracker& en    = *scene->energy;
 	const Real           total = en.total() + kineticCorrection();
 	if (storeNow) storeVelocities();
@@ -284,21 +292,6 @@ void FlexGuard::action()
 		externalWork   = 0;
 		startIncrement = lastWorkIncrement;
 	}
-	// the bodies carrying the most kinetic energy: where created energy shows
-	auto largestKinetic = [&](std::ostringstream& os) {
-		std::vector<std::pair<Real, Body::id_t>> kin;
-		for (const auto& b : bs)
-			if (b && b->state->mass > 0) kin.emplace_back(0.5 * b->state->mass * b->state->vel.squaredNorm(), b->id);
-		const size_t nShow = std::min<size_t>(5, kin.size());
-		std::partial_sort(kin.begin(), kin.begin() + nShow, kin.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-		std::vector<Body::id_t> ids;
-		os << "; largest kinetic energy:";
-		for (size_t i = 0; i < nShow; i++) {
-			ids.push_back(kin[i].second);
-			os << " #" << kin[i].second << " " << kin[i].first << " J" << (i + 1 < nShow ? "," : "");
-		}
-		return ids;
-	};
 	// 4a: kinetic energy far above the energy put in (a linear blow-up, which keeps the leap-frog
 	// balance of 4b constant while every term grows)
 	auto term = [&](const char* name) {
@@ -332,18 +325,36 @@ void FlexGuard::action()
 	rawEnergyResidual = (en.total() - rawEnergyStart) - externalWork;
 	if (energyScale > 0 && energyResidual > energyTolerance * energyScale) {
 		std::ostringstream os;
-		os << "energy created without external work: (total - start) - externalWork = " << energyResidual << " J > energyTolerance = " << energyTolerance
-		   << " x energy scale " << energyScale << " J";
+		os << "energy created without external work: (total - start) - externalWork = " << energyResidual
+		   << " J > energyTolerance = " << energyTolerance << " x energy scale " << energyScale << " J";
 		const std::vector<Body::id_t> ids = largestKinetic(os);
 		fail(os.str(), ids);
 	}
 	if (energyInput > 0 && rawEnergyResidual > rawEnergyTolerance * energyInput) {
 		std::ostringstream os;
-		os << "energy created without external work, as booked (no leap-frog correction): (O.energy.total() - start) - externalWork = " << rawEnergyResidual
-		   << " J > rawEnergyTolerance = " << rawEnergyTolerance << " x the energy put in " << energyInput << " J: the time step is too long for some element or contact";
+		os << "energy created without external work, as booked (no leap-frog correction): (O.energy.total() - start) - externalWork = "
+		   << rawEnergyResidual << " J > rawEnergyTolerance = " << rawEnergyTolerance << " x the energy put in " << energyInput
+		   << " J: the time step is too long for some element or contact";
 		const std::vector<Body::id_t> ids = largestKinetic(os);
 		fail(os.str(), ids);
 	}
+}
+
+// the bodies carrying the most kinetic energy: where created energy shows
+std::vector<Body::id_t> FlexGuard::largestKinetic(std::ostringstream& os) const
+{
+	std::vector<std::pair<Real, Body::id_t>> kin;
+	for (const auto& b : *scene->bodies)
+		if (b && b->state->mass > 0) kin.emplace_back(0.5 * b->state->mass * b->state->vel.squaredNorm(), b->id);
+	const size_t nShow = std::min<size_t>(5, kin.size());
+	std::partial_sort(kin.begin(), kin.begin() + nShow, kin.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+	std::vector<Body::id_t> ids;
+	os << "; largest kinetic energy:";
+	for (size_t i = 0; i < nShow; i++) {
+		ids.push_back(kin[i].second);
+		os << " #" << kin[i].second << " " << kin[i].first << " J" << (i + 1 < nShow ? "," : "");
+	}
+	return ids;
 }
 
 } // namespace yade

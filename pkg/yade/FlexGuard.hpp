@@ -37,6 +37,9 @@
 #pragma once
 #include "FlexPch.hpp"
 
+#include <sstream>
+#include <vector>
+
 namespace yade {
 
 class FlexGuard : public GlobalEngine {
@@ -48,13 +51,18 @@ class FlexGuard : public GlobalEngine {
 	size_t                  lastEnergyCount = 0; // number of O.energy terms at the last check
 	// Leap-frog energy identity (see FlexGuard.cpp): velocities at the previous step and the
 	// external work of the step just taken, which the booked energies do not include yet
-	std::vector<Vector3r>   prevVel, prevAngVel;
-	long                    prevVelIter     = -2;
-	Real                    lastWorkIncrement = 0, startIncrement = 0;
-	Real                    kineticCorrection() const;
-	void                    storeVelocities();
-	void                    refresh();
-	void                    addExternalWork();
+	std::vector<Vector3r> prevVel, prevAngVel;
+	long                  prevVelIter       = -2;
+	Real                  lastWorkIncrement = 0, startIncrement = 0;
+	Real                  kineticCorrection() const;
+	void                  storeVelocities();
+	void                  refresh();
+	void                  addExternalWork();
+	// the checks of a step: 1-3 over the bodies, 4 on the energy balance (they throw on failure)
+	void checkBodies();
+	void checkEnergy(bool storeNow);
+	// appends the bodies of largest kinetic energy to a message; returns their ids
+	std::vector<Body::id_t> largestKinetic(std::ostringstream& os) const;
 	[[noreturn]] void       fail(const std::string& what, const std::vector<Body::id_t>& ids);
 
 public:
