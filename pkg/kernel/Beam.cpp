@@ -22,7 +22,7 @@ BeamSection BeamSection::circular(double young, double shearModulus, double radi
 
 AxialResult axialForce(double strain, double EA, double L0, const AxialLaw& law, AxialState& st)
 {
-	AxialResult r;
+	AxialResult  r;
 	const double k = EA / L0; // [N/m]
 	double       N = EA * (strain - st.plasticStrain);
 	if (!law.tensionOnly || N > 0) {
@@ -49,8 +49,8 @@ AxialResult axialForce(double strain, double EA, double L0, const AxialLaw& law,
 BeamRest makeBeamRest(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj)
 {
 	BeamRest   r;
-	const Vec3 d = xj - xi;
-	r.L0         = d.norm();
+	const Vec3 d  = xj - xi;
+	r.L0          = d.norm();
 	const Quat R0 = Quat::FromTwoVectors(Vec3::UnitX(), d / r.L0);
 	r.Qi          = (oi.conjugate() * R0).normalized();
 	r.Qj          = (oj.conjugate() * R0).normalized();
@@ -96,7 +96,7 @@ namespace {
 		const double x = q.x(), y = q.y(), z = q.z(), w = q.w();
 		return Vec3(1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y));
 	}
-}
+} // namespace
 
 BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj, const BeamRest& rest)
 {
@@ -105,15 +105,15 @@ BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, co
 	k.L               = ch.L;
 	k.e               = ch.e;
 	const Quat Ri = oi * rest.Qi, Rj = oj * rest.Qj;
-	k.aI          = xAxis(Ri);
-	k.aJ          = xAxis(Rj);
+	k.aI         = xAxis(Ri);
+	k.aJ         = xAxis(Rj);
 	const Rot ri = rotationBetween(k.e, k.aI), rj = rotationBetween(k.e, k.aJ);
-	k.thetaI      = ri.theta;
-	k.thetaJ      = rj.theta;
-	k.fI          = ri.f;
-	k.hI          = ri.h;
-	k.fJ          = rj.f;
-	k.hJ          = rj.h;
+	k.thetaI = ri.theta;
+	k.thetaJ = rj.theta;
+	k.fI     = ri.f;
+	k.hI     = ri.h;
+	k.fJ     = rj.f;
+	k.hJ     = rj.h;
 	// D = conj(Ri) Rj; the twist is 2 atan(Dx / Dw), the rotation of D about the element axis
 	double Dw = Ri.w() * Rj.w() + Ri.x() * Rj.x() + Ri.y() * Rj.y() + Ri.z() * Rj.z();
 	double Dx = Ri.w() * Rj.x() - Ri.x() * Rj.w() - Ri.y() * Rj.z() + Ri.z() * Rj.y();
@@ -147,34 +147,34 @@ BeamForces beamForces(const BeamKinematics& k, const BeamRest& rest, const BeamS
 BeamForces beamForcesWithAxial(const BeamKinematics& k, const BeamRest& rest, const BeamSection& s, const AxialResult& ax)
 {
 	BeamForces f;
-	f.N                  = ax.N;
-	f.plasticWork        = ax.plasticWork;
-	f.rupture            = ax.rupture;
-	const double kb      = s.EI / rest.L0, kt = s.GJ / rest.L0;
+	f.N             = ax.N;
+	f.plasticWork   = ax.plasticWork;
+	f.rupture       = ax.rupture;
+	const double kb = s.EI / rest.L0, kt = s.GJ / rest.L0;
 	// U = kb (2 thI.thI + 2 thI.thJ + 2 thJ.thJ) + kt tw^2 / 2; g = dU/dtheta at each end.
 	// theta = f (e x a): with c = e x a, d theta = f (de x a + e x da) - h c (a.de + e.da), so
 	// g.d theta = ve.de + va.da with ve = f (a x g) - h (g.c) a and va = f (g x e) - h (g.c) e.
 	// A rotation dphi of the node moves its axis by da = dphi x a: its moment is -a x va; a
 	// move of the nodes turns the chord by de = (I - e e^T)(dxj - dxi) / L. Small angles (f = 1,
 	// a = e, g normal to e): M = -g, Fj = -e x (gI + gJ) / L, the linear beam.
-	const Vec3 gI = kb * (4 * k.thetaI + 2 * k.thetaJ), gJ = kb * (2 * k.thetaI + 4 * k.thetaJ);
-	const Vec3 cI = k.e.cross(k.aI), cJ = k.e.cross(k.aJ);
+	const Vec3   gI = kb * (4 * k.thetaI + 2 * k.thetaJ), gJ = kb * (2 * k.thetaI + 4 * k.thetaJ);
+	const Vec3   cI = k.e.cross(k.aI), cJ = k.e.cross(k.aJ);
 	const double gcI = gI.dot(cI), gcJ = gJ.dot(cJ);
-	const Vec3 vaI = k.fI * gI.cross(k.e) - k.hI * gcI * k.e, vaJ = k.fJ * gJ.cross(k.e) - k.hJ * gcJ * k.e;
-	const Vec3 ve  = k.fI * k.aI.cross(gI) - k.hI * gcI * k.aI + k.fJ * k.aJ.cross(gJ) - k.hJ * gcJ * k.aJ;
-	const Vec3 V   = -(ve - k.e.dot(ve) * k.e) / k.L;
-	f.Fj             = -f.N * k.e + V;
-	f.Fi             = -f.Fj;
-	f.Mi             = -k.aI.cross(vaI) - kt * k.twist * k.twistGradI;
-	f.Mj             = -k.aJ.cross(vaJ) - kt * k.twist * k.twistGradJ;
-	f.elasticEnergy  = ax.elasticEnergy
-	        + kb * (2 * k.thetaI.squaredNorm() + 2 * k.thetaI.dot(k.thetaJ) + 2 * k.thetaJ.squaredNorm()) + 0.5 * kt * k.twist * k.twist;
+	const Vec3   vaI = k.fI * gI.cross(k.e) - k.hI * gcI * k.e, vaJ = k.fJ * gJ.cross(k.e) - k.hJ * gcJ * k.e;
+	const Vec3   ve = k.fI * k.aI.cross(gI) - k.hI * gcI * k.aI + k.fJ * k.aJ.cross(gJ) - k.hJ * gcJ * k.aJ;
+	const Vec3   V  = -(ve - k.e.dot(ve) * k.e) / k.L;
+	f.Fj            = -f.N * k.e + V;
+	f.Fi            = -f.Fj;
+	f.Mi            = -k.aI.cross(vaI) - kt * k.twist * k.twistGradI;
+	f.Mj            = -k.aJ.cross(vaJ) - kt * k.twist * k.twistGradJ;
+	f.elasticEnergy
+	        = ax.elasticEnergy + kb * (2 * k.thetaI.squaredNorm() + 2 * k.thetaI.dot(k.thetaJ) + 2 * k.thetaJ.squaredNorm()) + 0.5 * kt * k.twist * k.twist;
 	return f;
 }
 
 Eigen::Matrix<double, 12, 12> beamStiffnessLocal(const BeamSection& s, double L)
 {
-	Eigen::Matrix<double, 12, 12> K = Eigen::Matrix<double, 12, 12>::Zero();
+	Eigen::Matrix<double, 12, 12> K    = Eigen::Matrix<double, 12, 12>::Zero();
 	auto                          pair = [&](int a, int b, double v) {
                 K(a, a) += v;
                 K(b, b) += v;
@@ -188,9 +188,10 @@ Eigen::Matrix<double, 12, 12> beamStiffnessLocal(const BeamSection& s, double L)
 	// bending in the x-z plane: (w_i, ry_i, w_j, ry_j) = (2, 4, 8, 10), sign -1
 	for (int plane = 0; plane < 2; ++plane) {
 		const int    v1 = plane ? 2 : 1, r1 = plane ? 4 : 5, v2 = v1 + 6, r2 = r1 + 6;
-		const double sg = plane ? -1 : 1;
+		const double sg     = plane ? -1 : 1;
 		const int    idx[4] = { v1, r1, v2, r2 };
-		const double m[4][4] = { { k12, sg * k6, -k12, sg * k6 }, { sg * k6, k4, -sg * k6, k2 }, { -k12, -sg * k6, k12, -sg * k6 }, { sg * k6, k2, -sg * k6, k4 } };
+		const double m[4][4]
+		        = { { k12, sg * k6, -k12, sg * k6 }, { sg * k6, k4, -sg * k6, k2 }, { -k12, -sg * k6, k12, -sg * k6 }, { sg * k6, k2, -sg * k6, k4 } };
 		for (int a = 0; a < 4; ++a)
 			for (int b = 0; b < 4; ++b)
 				K(idx[a], idx[b]) += m[a][b];

@@ -40,9 +40,9 @@ struct BeamSection {
 
 /// Axial constitutive options of a bond.
 struct AxialLaw {
-	bool   tensionOnly   = false;                                    ///< ropes: no compression force
+	bool   tensionOnly   = false;                                   ///< ropes: no compression force
 	double yieldForce    = std::numeric_limits<double>::infinity(); ///< [N] onset of plastic elongation
-	double hardening     = 0;                                        ///< [-] post-yield stiffness / EA (linear isotropic)
+	double hardening     = 0;                                       ///< [-] post-yield stiffness / EA (linear isotropic)
 	double ruptureForce  = std::numeric_limits<double>::infinity(); ///< [N] bond breaks when N reaches it
 	double ruptureStrain = std::numeric_limits<double>::infinity(); ///< [-] bond breaks at this total strain
 };
@@ -66,18 +66,18 @@ AxialResult axialForce(double strain, double EA, double L0, const AxialLaw& law,
 
 /// Reference configuration of a bond.
 struct BeamRest {
-	double L0 = 0;                  ///< rest length [m]
-	Quat   Qi = Quat::Identity();   ///< element frame in node i's body frame
-	Quat   Qj = Quat::Identity();   ///< element frame in node j's body frame
+	double L0 = 0;                ///< rest length [m]
+	Quat   Qi = Quat::Identity(); ///< element frame in node i's body frame
+	Quat   Qj = Quat::Identity(); ///< element frame in node j's body frame
 };
 BeamRest makeBeamRest(const Vec3& xi, const Vec3& xj, const Quat& oi, const Quat& oj);
 
 struct BeamKinematics {
-	Vec3   e;        ///< unit chord i -> j
-	double L;        ///< current length [m]
-	Vec3   thetaI;   ///< bending rotation at node i (perpendicular to e) [rad]
-	Vec3   thetaJ;   ///< bending rotation at node j [rad]
-	double twist;    ///< twist of j relative to i about e [rad]
+	Vec3   e;      ///< unit chord i -> j
+	double L;      ///< current length [m]
+	Vec3   thetaI; ///< bending rotation at node i (perpendicular to e) [rad]
+	Vec3   thetaJ; ///< bending rotation at node j [rad]
+	double twist;  ///< twist of j relative to i about e [rad]
 	// for the exact gradient (beamForcesWithAxial): the element axis at each node (a = x axis
 	// of the node's element frame), theta = f (e x a) with f = alpha / sin alpha, and
 	// h = f'(alpha) / sin alpha; the twist's gradient with respect to each node's rotation
@@ -91,7 +91,7 @@ BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat& oi, co
 struct BeamForces {
 	Vec3   Fi = Vec3::Zero(), Fj = Vec3::Zero(); ///< forces on nodes i, j [N]
 	Vec3   Mi = Vec3::Zero(), Mj = Vec3::Zero(); ///< moments on nodes i, j [N m]
-	double N  = 0;                               ///< axial force, tension positive [N]
+	double N             = 0;                    ///< axial force, tension positive [N]
 	double elasticEnergy = 0;                    ///< axial + bending + twist [J]
 	double plasticWork   = 0;                    ///< [J] this step
 	bool   rupture       = false;

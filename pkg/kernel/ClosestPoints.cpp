@@ -16,7 +16,7 @@ namespace flex {
 
 namespace {
 	inline double clamp01(double x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
-}
+} // namespace
 
 PointSegment closestPointOnSegment(const Vec3& p, const Vec3& a, const Vec3& b)
 {
@@ -47,8 +47,10 @@ SegmentSegment closestPointsSegments(const Vec3& a0, const Vec3& a1, const Vec3&
 			// parameters of b0 and b1 projected on axis 1
 			const double sb0 = -c / a, sb1 = (b - c) / a;
 			const double lo = std::max(0.0, std::min(sb0, sb1)), hi = std::min(1.0, std::max(sb0, sb1));
-			if (lo <= hi) s = 0.5 * (lo + hi);
-			else s = (std::max(sb0, sb1) < 0) ? 0.0 : 1.0;
+			if (lo <= hi)
+				s = 0.5 * (lo + hi);
+			else
+				s = (std::max(sb0, sb1) < 0) ? 0.0 : 1.0;
 			t = clamp01((b * s + f) / e);
 		} else {
 			s = clamp01((b * f - c * e) / denom);
@@ -76,8 +78,8 @@ Vec3 anyPerpendicular(const Vec3& d)
 
 Vec3 contactNormal(const Vec3& from, const Vec3& to, const Vec3& axis1, const Vec3& axis2, const Vec3& fallback)
 {
-	const Vec3   d   = to - from;
-	const double len = d.norm();
+	const Vec3   d     = to - from;
+	const double len   = d.norm();
 	const double scale = std::max(axis1.norm(), axis2.norm());
 	if (len > 1e-14 * std::max(scale, 1e-300)) return d / len;
 	// coincident points: try the previous normal, made perpendicular to the axes. Project off

@@ -44,10 +44,10 @@ struct FrictionalContact {
 	double tanPhi = 0;     ///< friction coefficient [-]
 };
 struct FrictionalResult {
-	Vec3   normalForce;             ///< on body 2 (n points from 1 to 2) [N]
-	Vec3   shearForce;              ///< on body 2 [N] (also the new shear state)
-	double elasticEnergy = 0;       ///< [J]
-	double frictionWork  = 0;       ///< dissipated this step [J]
+	Vec3   normalForce;       ///< on body 2 (n points from 1 to 2) [N]
+	Vec3   shearForce;        ///< on body 2 [N] (also the new shear state)
+	double elasticEnergy = 0; ///< [J]
+	double frictionWork  = 0; ///< dissipated this step [J]
 	bool   sliding       = false;
 };
 /// overlap > 0 in contact [m]; n unit normal from 1 to 2; shearOld already carried to the new

@@ -87,7 +87,8 @@ inline void leapFrog(const Vec3& f, const Vec3& m, BodyDofs& b, const LeapFrogSe
 			// no moment (the nodes of bar and truss links, grains without contact): +-0 / I is
 			// +-0 for I > 0, so the quotient is the moment itself, bit for bit, without its
 			// three divisions
-			if (m[0] == 0 && m[1] == 0 && m[2] == 0 && b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0) al = m;
+			if (m[0] == 0 && m[1] == 0 && m[2] == 0 && b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0)
+				al = m;
 			else
 				al = m.cwiseQuotient(b.inertia);
 		} else {

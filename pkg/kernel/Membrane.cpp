@@ -34,14 +34,14 @@ namespace {
 		const double t = 0.5 * std::atan2(A(0, 1), h);
 		v1             = Eigen::Vector2d(std::cos(t), std::sin(t));
 	}
-}
+} // namespace
 
 MembraneResult membraneForces(const Vec3 x[3], const MembraneRest& rest, const MembraneLaw& law)
 {
-	MembraneResult res;
+	MembraneResult              res;
 	Eigen::Matrix<double, 3, 2> Ds;
-	Ds.col(0)                          = x[1] - x[0];
-	Ds.col(1)                          = x[2] - x[0];
+	Ds.col(0)                           = x[1] - x[0];
+	Ds.col(1)                           = x[2] - x[0];
 	const Eigen::Matrix<double, 3, 2> F = Ds * rest.DmInv;
 	const Eigen::Matrix2d             C = F.transpose() * F;
 	const Eigen::Matrix2d             E = 0.5 * (C - Eigen::Matrix2d::Identity());
@@ -80,7 +80,7 @@ double membraneMaxOmega2(const MembraneRest& rest, const MembraneLaw& law, doubl
 {
 	if (!(rest.A0 > 0) || !(nodeMass > 0)) return 0;
 	// gradients of the shape functions in the rest frame: g2, g3 = rows of Dm^-1, g1 = -(g2 + g3)
-	const Eigen::Vector2d g[3] = { -(rest.DmInv.row(0) + rest.DmInv.row(1)).transpose(), rest.DmInv.row(0).transpose(), rest.DmInv.row(1).transpose() };
+	const Eigen::Vector2d g[3]    = { -(rest.DmInv.row(0) + rest.DmInv.row(1)).transpose(), rest.DmInv.row(0).transpose(), rest.DmInv.row(1).transpose() };
 	Eigen::Matrix<double, 3, 6> B = Eigen::Matrix<double, 3, 6>::Zero();
 	for (int a = 0; a < 3; ++a) {
 		B(0, 2 * a)     = g[a][0];
@@ -100,7 +100,8 @@ double membraneStretchFactor(double e1, double e2, const MembraneLaw& law)
 	if (!(law.Et > 0)) return 1;
 	const double k = law.Et / (1 - law.nu * law.nu);
 	double       s1; // larger principal value of S, the same branches as membraneForces
-	if (law.tensionOnly && e1 <= 0) s1 = 0;
+	if (law.tensionOnly && e1 <= 0)
+		s1 = 0;
 	else if (law.tensionOnly && e2 < -law.nu * e1)
 		s1 = law.Et * e1;
 	else

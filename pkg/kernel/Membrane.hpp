@@ -23,25 +23,25 @@
 namespace flex {
 
 struct MembraneLaw {
-	double Et          = 0;     ///< tensile stiffness E t [N/m]
-	double nu          = 0;     ///< Poisson ratio [-]
-	bool   tensionOnly = false; ///< wrinkling fabric: no compression
+	double Et          = 0;                                       ///< tensile stiffness E t [N/m]
+	double nu          = 0;                                       ///< Poisson ratio [-]
+	bool   tensionOnly = false;                                   ///< wrinkling fabric: no compression
 	double strength    = std::numeric_limits<double>::infinity(); ///< rupture at this principal membrane force [N/m]
 };
 
 struct MembraneRest {
-	double          A0 = 0;                          ///< rest area [m^2] (0: degenerate)
+	double          A0    = 0;                       ///< rest area [m^2] (0: degenerate)
 	Eigen::Matrix2d DmInv = Eigen::Matrix2d::Zero(); ///< inverse of the rest edge matrix [1/m]
 };
 /// Rest state from the node positions; A0 = 0 if the triangle is degenerate.
 MembraneRest makeMembraneRest(const Vec3& x1, const Vec3& x2, const Vec3& x3);
 
 struct MembraneResult {
-	Vec3   f[3];               ///< forces on the nodes [N]
-	double energy    = 0;      ///< elastic energy A0 W [J]
-	double n1 = 0, n2 = 0;     ///< principal membrane forces per current width (Cauchy) [N/m]
-	double e1 = 0, e2 = 0;     ///< principal Green strains [-]
-	bool   rupture   = false;  ///< n1 reached the strength
+	Vec3   f[3];            ///< forces on the nodes [N]
+	double energy = 0;      ///< elastic energy A0 W [J]
+	double n1 = 0, n2 = 0;  ///< principal membrane forces per current width (Cauchy) [N/m]
+	double e1 = 0, e2 = 0;  ///< principal Green strains [-]
+	bool   rupture = false; ///< n1 reached the strength
 };
 MembraneResult membraneForces(const Vec3 x[3], const MembraneRest& rest, const MembraneLaw& law);
 

@@ -320,7 +320,7 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 		return beats(cl[nCl++]);
 	};
 	auto holds = [](const ElementNodes& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
-	for (int m = 0; m < nCl; ++m) { // breadth-first over linked pairs
+	for (int m = 0; m < nCl; ++m) {                                                     // breadth-first over linked pairs
 		const Member cur = cl[m];
 		// one element changes: (a', b) or (a, b')
 		for (int side = 0; side < 2; ++side) {
@@ -329,10 +329,11 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 			const int           eId     = side == 0 ? cur.ia : cur.ib;
 			auto                link    = [&](const Met& x) {
                                 const ElementNodes& oe = side == 0 ? x.ea : x.eb;
-                                const Hit &hc = side == 0 ? cur.h.hx : cur.h.hy, &ho = side == 0 ? x.h.hx : x.h.hy; // on the elements that change
-                                const Hit &pc = side == 0 ? cur.h.hy : cur.h.hx, &po = side == 0 ? x.h.hy : x.h.hx; // on the common partner
-                                const double thin = std::min(e.radius, oe.radius), patch = thin + partner.radius;
-                                return ((pc.point - po.point).squaredNorm() < patch * patch && (onShared(hc, e, oe) || onShared(ho, e, oe) || cur.h.n.dot(x.h.n) > kMergeCos))
+                                const Hit &         hc = side == 0 ? cur.h.hx : cur.h.hy, &ho = side == 0 ? x.h.hx : x.h.hy; // on the elements that change
+                                const Hit &         pc = side == 0 ? cur.h.hy : cur.h.hx, &po = side == 0 ? x.h.hy : x.h.hx; // on the common partner
+                                const double        thin = std::min(e.radius, oe.radius), patch = thin + partner.radius;
+                                return ((pc.point - po.point).squaredNorm() < patch * patch
+                                               && (onShared(hc, e, oe) || onShared(ho, e, oe) || cur.h.n.dot(x.h.n) > kMergeCos))
                                         || ((cur.h.n.squaredNorm() == 0 || x.h.n.squaredNorm() == 0) && (hc.point - ho.point).squaredNorm() < thin * thin);
 			};
 			for (int k = 0; k < e.nNodes; ++k)

@@ -16,8 +16,8 @@ double beamMaxOmega2(const BeamSection& s, double L, double mi, double mj, doubl
 	const Eigen::Matrix<double, 12, 12> K = beamStiffnessLocal(s, L);
 	Eigen::Matrix<double, 12, 1>        d;
 	d << mi, mi, mi, Ii, Ii, Ii, mj, mj, mj, Ij, Ij, Ij;
-	const Eigen::Matrix<double, 12, 1>  w = d.cwiseSqrt().cwiseInverse();
-	const Eigen::Matrix<double, 12, 12> A = w.asDiagonal() * K * w.asDiagonal();
+	const Eigen::Matrix<double, 12, 1>                           w = d.cwiseSqrt().cwiseInverse();
+	const Eigen::Matrix<double, 12, 12>                          A = w.asDiagonal() * K * w.asDiagonal();
 	Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>> es(A, Eigen::EigenvaluesOnly);
 	return es.eigenvalues().maxCoeff();
 }
@@ -28,18 +28,18 @@ double criticalTimeStep(double omega2) { return omega2 > 0 ? 2.0 / std::sqrt(ome
 
 namespace flex {
 
-double reachableDistance(const Vec3& x, const Vec3& ref, double sweep)
-{
-	return ((x - ref).cwiseAbs() + Vec3::Constant(std::max(sweep, 0.0))).norm();
-}
+double reachableDistance(const Vec3& x, const Vec3& ref, double sweep) { return ((x - ref).cwiseAbs() + Vec3::Constant(std::max(sweep, 0.0))).norm(); }
 
 double primitiveGap(const Vec3* a, int na, double ra, const Vec3* b, int nb, double rb)
 {
 	if (na > nb) return primitiveGap(b, nb, rb, a, na, ra);
 	double d;
-	if (na == 1 && nb == 1) d = (a[0] - b[0]).norm();
-	else if (na == 1 && nb == 2) d = (a[0] - closestPointOnSegment(a[0], b[0], b[1]).point).norm();
-	else if (na == 1 && nb == 3) d = (a[0] - closestPointOnTriangle(a[0], b[0], b[1], b[2]).point).norm();
+	if (na == 1 && nb == 1)
+		d = (a[0] - b[0]).norm();
+	else if (na == 1 && nb == 2)
+		d = (a[0] - closestPointOnSegment(a[0], b[0], b[1]).point).norm();
+	else if (na == 1 && nb == 3)
+		d = (a[0] - closestPointOnTriangle(a[0], b[0], b[1], b[2]).point).norm();
 	else if (na == 2 && nb == 2) {
 		const SegmentSegment ss = closestPointsSegments(a[0], a[1], b[0], b[1]);
 		d                       = (ss.p2 - ss.p1).norm();

@@ -85,7 +85,7 @@ namespace {
 		w[2] = u;
 		w[0] = 1 - v - u;
 	}
-}
+} // namespace
 
 PointTriangle closestPointOnTriangle(const Vec3& p, const Vec3& x1, const Vec3& x2, const Vec3& x3)
 {
@@ -142,19 +142,22 @@ SegmentTriangle closestPointsSegmentTriangle(const Vec3& a, const Vec3& b, const
 	if (degenerate(ab, ac)) return best;
 	// 2. the part of the segment over the face (inside the triangle's prism): there the
 	//    distance is the height |h(s)|, linear in s
-	const Vec3   n = ab.cross(ac).normalized(), d = b - a;
-	double       lo = 0, hi = 1;
+	const Vec3 n = ab.cross(ac).normalized(), d = b - a;
+	double     lo = 0, hi = 1;
 	for (int k = 0; k < 3 && lo <= hi; ++k) {
 		const Vec3   e  = x[(k + 1) % 3] - x[k];
 		const Vec3   m  = n.cross(e); // inward in-plane normal of edge k
 		const double g0 = m.dot(a - x[k]), g1 = m.dot(b - x[k]);
-		if (g0 < 0 && g1 < 0) hi = -1;
-		else if (g0 < 0) lo = std::max(lo, g0 / (g0 - g1));
-		else if (g1 < 0) hi = std::min(hi, g0 / (g0 - g1));
+		if (g0 < 0 && g1 < 0)
+			hi = -1;
+		else if (g0 < 0)
+			lo = std::max(lo, g0 / (g0 - g1));
+		else if (g1 < 0)
+			hi = std::min(hi, g0 / (g0 - g1));
 	}
 	if (lo > hi) return best;
 	const double h0 = n.dot(a - x1), h1 = n.dot(b - x1);
-	auto         h  = [&](double s) { return h0 + s * (h1 - h0); };
+	auto         h = [&](double s) { return h0 + s * (h1 - h0); };
 	double       s;
 	bool         pierce = false;
 	if (h(lo) * h(hi) <= 0 && h0 != h1) {
@@ -187,7 +190,7 @@ namespace {
 	};
 	inline Frame frameOf(const Vec3 x[3])
 	{
-		Frame      f;
+		Frame f;
 		f.a          = x[1] - x[0];
 		f.b          = x[2] - x[0];
 		const Vec3 N = f.a.cross(f.b);
@@ -196,14 +199,14 @@ namespace {
 		f.a2         = f.a.squaredNorm();
 		return f;
 	}
-}
+} // namespace
 
 Vec3 trianglePointVelocity(const Vec3 x[3], const Vec3 v[3], const double w[3], const Vec3& d)
 {
-	const Frame f   = frameOf(x);
-	const Vec3  ad  = v[1] - v[0], bd = v[2] - v[0];
-	Vec3        nd  = ad.cross(f.b) + f.a.cross(bd);
-	nd              = (nd - f.n * f.n.dot(nd)) / f.An;
+	const Frame f  = frameOf(x);
+	const Vec3  ad = v[1] - v[0], bd = v[2] - v[0];
+	Vec3        nd   = ad.cross(f.b) + f.a.cross(bd);
+	nd               = (nd - f.n * f.n.dot(nd)) / f.An;
 	const Vec3 omega = f.n.cross(nd) + f.n * (f.n.dot(f.a.cross(ad)) / f.a2);
 	return w[0] * v[0] + w[1] * v[1] + w[2] * v[2] + omega.cross(d);
 }
@@ -223,7 +226,7 @@ void distributeToTriangle(const Vec3 x[3], const double w[3], const Vec3& d, con
 namespace {
 	// moment part of the nodal shares per unit offset: |f_a| <= |F| (w_a + |d| G)
 	inline double momentGain(const Frame& f) { return (std::sqrt(f.a2) + f.b.norm()) / f.An + 1 / std::sqrt(f.a2); }
-}
+} // namespace
 
 double triangleLoadFactor(const Vec3 x[3], double r)
 {

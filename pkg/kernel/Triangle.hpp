@@ -32,8 +32,8 @@
 namespace flex {
 
 struct PointTriangle {
-	Vec3     point;  ///< closest point of the triangle to the probe
-	double   w[3];   ///< barycentric weights of point (exactly 0 off the support)
+	Vec3     point;   ///< closest point of the triangle to the probe
+	double   w[3];    ///< barycentric weights of point (exactly 0 off the support)
 	unsigned support; ///< bit mask of the nodes with non-zero weight (7: face region)
 };
 

@@ -39,7 +39,7 @@ namespace {
 			W += 0.5 * (s0 + s1) * (e1 - e0);
 		}
 	}
-}
+} // namespace
 
 std::string wireCurveError(const std::vector<double>& strain, const std::vector<double>& stress)
 {
@@ -95,7 +95,7 @@ int wireEnvelopeKnots(const WireCurve& c, const WireDistortion& d, double* e, do
 
 double wireEnvelope(const WireCurve& c, const WireDistortion& d, double e)
 {
-	double ke[kMaxPoints + 2], ks[kMaxPoints + 2], s, W;
+	double    ke[kMaxPoints + 2], ks[kMaxPoints + 2], s, W;
 	const int m = wireEnvelopeKnots(c, d, ke, ks);
 	envelopeAt(ke, ks, m, e, s, W);
 	return s;
@@ -110,7 +110,8 @@ WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCur
 	const bool soft = d.slack > 0 && d.forceRatio < 1;
 	const int  m    = c.n + (soft ? 2 : 1);
 	auto       knot = [&](int j, double& e, double& s) {
-                if (j == 0) e = s = 0;
+                if (j == 0)
+                        e = s = 0;
                 else if (soft && j == 1) {
                         e = d.slack + d.forceRatio * c.strain[0];
                         s = d.forceRatio * c.stress[0];
@@ -126,7 +127,7 @@ WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCur
 	// pass over the segments (the same operations, in the same order, as envelopeAt at each x)
 	const double q[2]  = { st.maxStrain, std::min(strain, eLast) };
 	double       qs[2] = { 0, 0 }, qw[2] = { 0, 0 };
-	int          next  = 0;
+	int          next = 0;
 	while (next < 2 && q[next] <= 0)
 		++next;
 	double W = 0, e0, s0;
@@ -161,15 +162,15 @@ namespace {
 		x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
 		return x ^ (x >> 31);
 	}
-}
+} // namespace
 
 double wireUniform(std::uint64_t seed, long nodeA, long nodeB, int stream)
 {
 	const std::uint64_t lo = (std::uint64_t)std::min(nodeA, nodeB), hi = (std::uint64_t)std::max(nodeA, nodeB);
-	std::uint64_t       h  = splitmix64(seed);
-	h                      = splitmix64(h ^ lo);
-	h                      = splitmix64(h ^ (hi * 0x632be59bd9b4e019ULL));
-	h                      = splitmix64(h ^ (std::uint64_t)stream);
+	std::uint64_t       h = splitmix64(seed);
+	h                     = splitmix64(h ^ lo);
+	h                     = splitmix64(h ^ (hi * 0x632be59bd9b4e019ULL));
+	h                     = splitmix64(h ^ (std::uint64_t)stream);
 	return (double)(h >> 11) * 0x1.0p-53;
 }
 

@@ -75,7 +75,7 @@ struct WireAxial {
 	bool   rupture       = false; ///< broke this step
 };
 /// On the envelope (strain > st.maxStrain): out of line.
-WireAxial wireAxialEnvelope(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st);
+WireAxial        wireAxialEnvelope(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st);
 inline WireAxial wireAxial(double strain, double L0, double area, const WireCurve& c, const WireDistortion& d, WireState& st)
 {
 	if (strain > st.maxStrain) return wireAxialEnvelope(strain, L0, area, c, d, st);

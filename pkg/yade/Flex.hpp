@@ -159,8 +159,10 @@ REGISTER_SERIALIZABLE(Bo1_FlexCylinder_Aabb);
 
 class Ig2_Sphere_FlexCylinder_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
 	{
 		throw std::logic_error("Ig2_Sphere_FlexCylinder_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
 	}
@@ -174,8 +176,10 @@ REGISTER_SERIALIZABLE(Ig2_Sphere_FlexCylinder_FlexContactGeom);
 
 class Ig2_FlexCylinder_FlexCylinder_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f, const shared_ptr<Interaction>& I) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f,
+	        const shared_ptr<Interaction>& I) override
 	{
 		throw std::logic_error("Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::goReverse called.");
 	}
@@ -189,8 +193,10 @@ REGISTER_SERIALIZABLE(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom);
 
 class Ig2_Sphere_Sphere_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f, const shared_ptr<Interaction>& I) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>& s1, const shared_ptr<Shape>& s2, const State& st1, const State& st2, const Vector3r& sh, const bool& f,
+	        const shared_ptr<Interaction>& I) override
 	{
 		return go(s1, s2, st1, st2, sh, f, I);
 	}
@@ -199,7 +205,7 @@ public:
 	/// just made). FlexInteractionLoop calls it directly for existing contacts, from its table of
 	/// the spheres' centres and motion, without reading their bodies, states and shapes.
 	static void update(Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2, const Vector3r& vel1,
-	                   const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2);
+	        const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2);
 	// clang-format off
 	YADE_CLASS_BASE_DOC(Ig2_Sphere_Sphere_FlexContactGeom, IGeomFunctor, "Sphere - sphere contact as a :yref:`FlexContactGeom` (both sides rigid), so that granular fill uses the same frictional law and energy booking as the element contacts (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack`: friction dissipation consistent with the leap-frog, shear energy released at separation booked). Periodic cells are not supported.");
 	// clang-format on
@@ -241,31 +247,31 @@ class FlexElementEngine : public GlobalEngine {
 	// Ruptured element bodies, kept alive: a body created in Python holds a Python reference,
 	// and dropping the last one here, in O.run()'s worker thread without the GIL, aborts YADE.
 	std::vector<shared_ptr<Body>> rupturedBodies;
-	size_t                  cachedBodyCount = 0;
-	std::vector<int>        slotOf;     // body id -> index in slotNode (-1: not a cylinder node)
-	std::vector<Body::id_t> slotNode;   // the cylinders' nodes
-	std::vector<Vector3r>   accF, accM; // per-node sums of the serial element loop
+	size_t                        cachedBodyCount = 0;
+	std::vector<int>              slotOf;     // body id -> index in slotNode (-1: not a cylinder node)
+	std::vector<Body::id_t>       slotNode;   // the cylinders' nodes
+	std::vector<Vector3r>         accF, accM; // per-node sums of the serial element loop
 	// the threads' own sums of the element forces, when an element loop runs on several threads
 	// (flexa::ThreadForceSums; empty sinks: add to the ForceContainer)
-	flexa::ThreadForceSums         sums;
-	std::vector<flexa::ForceSink>  sinks;
+	flexa::ThreadForceSums        sums;
+	std::vector<flexa::ForceSink> sinks;
 	// Per cylinder (same order as `cylinders`), what its forces read and write, as pointers: the
 	// loop checks them against the bodies (loads whose results only feed a branch) and computes
 	// from the pointers, so the chain body -> shape -> node ids -> node bodies -> states is off the
 	// forces' critical path (a chain of 8 dependent loads per element before). A pointer that no
 	// longer matches (a body, shape, state or material replaced from Python) is looked up again.
 	struct Link {
-		const Body*     b   = nullptr; // the element body,
-		FlexCylinder*   c   = nullptr; // its shape,
-		const Material* m   = nullptr; // its material (cast where used: an address may be reused),
-		State*          se  = nullptr; // its state (follows the nodes),
+		const Body*     b  = nullptr;                // the element body,
+		FlexCylinder*   c  = nullptr;                // its shape,
+		const Material* m  = nullptr;                // its material (cast where used: an address may be reused),
+		State*          se = nullptr;                // its state (follows the nodes),
 		const Body *    bi = nullptr, *bj = nullptr; // the nodes' bodies
 		State *         si = nullptr, *sj = nullptr; // and states
 	};
-	std::vector<Link>       links;
-	static Link             linkOf(const Scene* scene, const Body* b); // all null if not computable
-	void                    refresh();
-	void                    facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
+	std::vector<Link> links;
+	static Link       linkOf(const Scene* scene, const Body* b); // all null if not computable
+	void              refresh();
+	void              facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
 
 public:
 	void action() override;
@@ -288,7 +294,7 @@ REGISTER_SERIALIZABLE(FlexElementEngine);
 namespace flexa {
 	/// FlexTimeStepper.safety's default, and yadeflex.engines()' (which reads it from the class).
 	constexpr Real kDefaultTimeStepSafety = 0.5;
-}
+} // namespace flexa
 
 class FlexTimeStepper : public GlobalEngine {
 	size_t lastInteractionCount = 0;
@@ -307,8 +313,8 @@ public:
 	Real criticalImpl(bool mark) const;
 	/// the potential pairs the estimate leaves out now (see skipUnreachable), for tests
 	boost::python::list unreachablePairs() const;
-	Real critical() const;
-	void action() override;
+	Real                critical() const;
+	void                action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
 		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have) that could start before the collider runs again (see skipUnreachable), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
@@ -333,13 +339,13 @@ REGISTER_SERIALIZABLE(FlexTimeStepper);
 class FlexNewtonIntegrator : public NewtonIntegrator {
 	std::vector<Body::id_t> movers, elements, facets; // bodies with DOFs / cylinder and facet bodies (cached)
 	size_t                  cachedBodyCount = 0;
-	bool              simple          = false; // no clump, no aspherical body: the fast path applies
-	void              refresh();
-	void              flagElements(); // collider trigger from element nodes (both paths)
+	bool                    simple          = false; // no clump, no aspherical body: the fast path applies
+	void                    refresh();
+	void                    flagElements(); // collider trigger from element nodes (both paths)
 	// the same trigger per node on the fast path (see buildNodeTable in FlexNewtonIntegrator.cpp)
 	std::vector<char>     isMover;
-	std::vector<Real>     nodeSweep; // smallest sweep of the bounds of the node's elements, -1: none
-	std::vector<Vector3r> nodeRef;   // node position when those bounds were built
+	std::vector<Real>     nodeSweep;       // smallest sweep of the bounds of the node's elements, -1: none
+	std::vector<Vector3r> nodeRef;         // node position when those bounds were built
 	Real                  nodeBase    = 0; // 0.5 if some element has a bound (flagElements' "inside")
 	bool                  nodeTableOk = false;
 	long                  tableRuns = -2, tableErasures = -1;

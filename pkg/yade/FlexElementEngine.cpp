@@ -24,7 +24,8 @@ void FlexElementEngine::refresh()
 	facets.clear();
 	for (const auto& b : *scene->bodies) {
 		if (!b || !b->shape) continue;
-		if (dynamic_cast<const FlexCylinder*>(b->shape.get())) cylinders.push_back(b->id);
+		if (dynamic_cast<const FlexCylinder*>(b->shape.get()))
+			cylinders.push_back(b->id);
 		else if (dynamic_cast<const FlexFacet*>(b->shape.get()))
 			facets.push_back(b->id);
 	}
@@ -56,14 +57,14 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 	if (c->node1 < 0 || c->node2 < 0 || c->node1 >= nb || c->node2 >= nb) return L;
 	const Body *bi = body[c->node1].get(), *bj = body[c->node2].get();
 	if (!bi || !bj || !bi->state || !bj->state) return L;
-	L.b   = b;
-	L.c   = c;
-	L.m   = b->material.get();
-	L.se  = b->state.get();
-	L.bi  = bi;
-	L.bj  = bj;
-	L.si  = bi->state.get();
-	L.sj  = bj->state.get();
+	L.b  = b;
+	L.c  = c;
+	L.m  = b->material.get();
+	L.se = b->state.get();
+	L.bi = bi;
+	L.bj = bj;
+	L.si = bi->state.get();
+	L.sj = bj->state.get();
 	return L;
 }
 
@@ -74,10 +75,10 @@ void FlexElementEngine::action()
 	flexa::checkWireMaterials(scene);
 	const long              n = (long)cylinders.size();
 	std::vector<Body::id_t> broken;
-	const bool              energy = scene->trackEnergy;
-	const Material* lastMat  = nullptr; // elements mostly share a material: cast it once
-	const FlexMat*  lastFlex = nullptr;
-	Real            lastEw   = 0; // its wire curve's elastic modulus (0: not a wire; see flexa::wireAxial)
+	const bool              energy   = scene->trackEnergy;
+	const Material*         lastMat  = nullptr; // elements mostly share a material: cast it once
+	const FlexMat*          lastFlex = nullptr;
+	Real                    lastEw   = 0;                          // its wire curve's elastic modulus (0: not a wire; see flexa::wireAxial)
 	const shared_ptr<Body>* bodies   = scene->bodies->body.data(); // (indexed directly: BodyContainer::operator[] is an out-of-line call)
 	const long              nBodies  = (long)scene->bodies->body.size();
 	// energies summed here and booked once per step (not twice per element)
@@ -110,7 +111,7 @@ void FlexElementEngine::action()
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (ahead && k + flexa::tuning::kAheadElements < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
-			                           // serial only: in the parallel loop another thread may be rewriting it)
+			                                              // serial only: in the parallel loop another thread may be rewriting it)
 			const Link& A = links[k + flexa::tuning::kAheadElements];
 			flexa::prefetch(A.c, sizeof(FlexCylinder));
 			if (A.si) flexa::prefetch(&A.si->pos, sizeof(Vector3r));
@@ -122,10 +123,9 @@ void FlexElementEngine::action()
 		Link& lk = links[k];
 		// the table checked against the bodies (each pointer compared only once the one it was read
 		// from is known to be current); looked up again if anything was replaced
-		const bool current = b == lk.b && b->shape.get() == lk.c && b->material.get() == lk.m && b->state.get() == lk.se
-		        && lk.c->node1 >= 0 && lk.c->node1 < nBodies && lk.c->node2 >= 0 && lk.c->node2 < nBodies
-		        && bodies[lk.c->node1].get() == lk.bi && bodies[lk.c->node2].get() == lk.bj && lk.bi->state.get() == lk.si
-		        && lk.bj->state.get() == lk.sj;
+		const bool current = b == lk.b && b->shape.get() == lk.c && b->material.get() == lk.m && b->state.get() == lk.se && lk.c->node1 >= 0
+		        && lk.c->node1 < nBodies && lk.c->node2 >= 0 && lk.c->node2 < nBodies && bodies[lk.c->node1].get() == lk.bi
+		        && bodies[lk.c->node2].get() == lk.bj && lk.bi->state.get() == lk.si && lk.bj->state.get() == lk.sj;
 		if (!current) lk = linkOf(scene, b);
 		if (!lk.c) continue;
 		FlexCylinder& c = *lk.c;
@@ -137,7 +137,7 @@ void FlexElementEngine::action()
 		}
 		const FlexMat* mat = lastFlex;
 		if (!mat) continue;
-		State *si = lk.si, *sj = lk.sj;
+		State *          si = lk.si, *sj = lk.sj;
 		const bool       wire = mat->isWire();
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
 		flex::BeamForces f;
@@ -150,7 +150,9 @@ void FlexElementEngine::action()
 			const flex::Chord ch = flex::chord(si->pos, sj->pos);
 			L                    = ch.L;
 			strain               = (L - c.L0) / c.L0;
-			f = flex::barForces(ch, wire ? flexa::wireAxial(*mat, c, strain, lastEw) : flex::axialForce(strain, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
+			f                    = flex::barForces(ch,
+                                wire ? flexa::wireAxial(*mat, c, strain, lastEw)
+			                                : flex::axialForce(strain, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
 		} else {
 			flex::BeamRest rest;
 			rest.L0                        = c.L0;
@@ -159,8 +161,8 @@ void FlexElementEngine::action()
 			const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
 			L                              = kin.L;
 			strain                         = (L - c.L0) / c.L0;
-			f                              = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, strain, lastEw))
-			                                      : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
+			f = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, strain, lastEw))
+			         : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
 		}
 		if (!wire) {
 			c.plasticStrain = st.plasticStrain;
@@ -265,7 +267,7 @@ void FlexElementEngine::action()
 			el.erase(std::remove(el.begin(), el.end(), id), el.end());
 		}
 		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see Flex.hpp)
-		scene->bodies->erase(id, false); // erases its interactions too: no ghost element
+		scene->bodies->erase(id, false);                // erases its interactions too: no ghost element
 		++flexa::elementErasures();
 		rupturedIds.push_back(id);
 		++nRuptured;
@@ -275,15 +277,15 @@ void FlexElementEngine::action()
 
 void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 {
-	const bool      energy   = scene->trackEnergy;
-	const Material* lastMat  = nullptr;
-	const FlexMembraneMat* mat = nullptr;
-	flex::MembraneLaw      law;
+	const bool              energy  = scene->trackEnergy;
+	const Material*         lastMat = nullptr;
+	const FlexMembraneMat*  mat     = nullptr;
+	flex::MembraneLaw       law;
 	const shared_ptr<Body>* bodies = scene->bodies->body.data();
-	const Real             dt     = scene->dt;
-	const long             n      = (long)facets.size();
-	Real eMemb = 0, ePress = 0;
-	long nPress = 0;
+	const Real              dt     = scene->dt;
+	const long              n      = (long)facets.size();
+	Real                    eMemb = 0, ePress = 0;
+	long                    nPress = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law) reduction(+ : eMemb, ePress, nPress)
 #endif

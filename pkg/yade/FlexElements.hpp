@@ -94,7 +94,7 @@ namespace flexa {
 	/// The scene as the kernel's mesh (kernel/Ownership.hpp): node positions, the elements on a
 	/// node (FlexNode::elements), an element's nodes.
 	struct SceneMesh {
-		const Scene* scene;
+		const Scene*    scene;
 		const Vector3r* pos(int id) const
 		{
 			const State* s = stateOf(scene, id);

@@ -83,8 +83,10 @@ REGISTER_SERIALIZABLE(Bo1_FlexFacet_Aabb);
 
 class Ig2_Sphere_FlexFacet_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
 	{
 		throw std::logic_error("Ig2_Sphere_FlexFacet_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
 	}
@@ -98,8 +100,10 @@ REGISTER_SERIALIZABLE(Ig2_Sphere_FlexFacet_FlexContactGeom);
 
 class Ig2_FlexCylinder_FlexFacet_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
 	{
 		throw std::logic_error("Ig2_FlexCylinder_FlexFacet_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
 	}
@@ -113,8 +117,10 @@ REGISTER_SERIALIZABLE(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
 
 class Ig2_FlexFacet_FlexFacet_FlexContactGeom : public IGeomFunctor {
 public:
-	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override;
-	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&, const shared_ptr<Interaction>&) override
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
 	{
 		throw std::logic_error("Ig2_FlexFacet_FlexFacet_FlexContactGeom::goReverse called.");
 	}

@@ -33,24 +33,28 @@ namespace flexa {
 	struct ForceSinkScope {
 		explicit ForceSinkScope(ForceSink* k) { currentSink() = k; }
 		~ForceSinkScope() { currentSink() = nullptr; }
-		ForceSinkScope(const ForceSinkScope&) = delete;
+		ForceSinkScope(const ForceSinkScope&)            = delete;
 		ForceSinkScope& operator=(const ForceSinkScope&) = delete;
 	};
 	inline void addForce(Scene* scene, const ForceSink* k, Body::id_t id, const Vector3r& f)
 	{
-		if (k && id >= 0 && id < k->n) k->f[id] += f;
-		else scene->forces.addForce(id, f);
+		if (k && id >= 0 && id < k->n)
+			k->f[id] += f;
+		else
+			scene->forces.addForce(id, f);
 	}
 	inline void addTorque(Scene* scene, const ForceSink* k, Body::id_t id, const Vector3r& t)
 	{
-		if (k && id >= 0 && id < k->n) k->t[id] += t;
-		else scene->forces.addTorque(id, t);
+		if (k && id >= 0 && id < k->n)
+			k->t[id] += t;
+		else
+			scene->forces.addTorque(id, t);
 	}
 	/// The arrays of `threads` sinks over n bodies: sized (new entries zero; the rest are zero
 	/// since the last merge) and the sink of thread k
 	struct ThreadForceSums {
 		std::vector<std::vector<Vector3r>> f, t;
-		void prepare(int threads, long n)
+		void                               prepare(int threads, long n)
 		{
 			f.resize(threads);
 			t.resize(threads);
@@ -71,8 +75,10 @@ namespace flexa {
 	/// path, once the term has its index), called per contact, element and body.
 	inline void addEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)
 	{
-		if (ix >= 0) scene->energy->energies.add(ix, val);
-		else scene->energy->add(val, name, ix, reset);
+		if (ix >= 0)
+			scene->energy->energies.add(ix, val);
+		else
+			scene->energy->add(val, name, ix, reset);
 	}
 
 } // namespace flexa

@@ -11,9 +11,8 @@
 
 namespace yade {
 
-YADE_PLUGIN((Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Ig2_Sphere_FlexFacet_FlexContactGeom)(
-        Ig2_FlexCylinder_FlexFacet_FlexContactGeom)(Ig2_FlexFacet_FlexFacet_FlexContactGeom)(Ig2_Sphere_Sphere_FlexContactGeom)(
-        Law2_FlexContactGeom_FrictPhys_CundallStrack));
+YADE_PLUGIN((
+        Ig2_Sphere_FlexCylinder_FlexContactGeom)(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom)(Ig2_Sphere_FlexFacet_FlexContactGeom)(Ig2_FlexCylinder_FlexFacet_FlexContactGeom)(Ig2_FlexFacet_FlexFacet_FlexContactGeom)(Ig2_Sphere_Sphere_FlexContactGeom)(Law2_FlexContactGeom_FrictPhys_CundallStrack));
 
 namespace {
 	// One more deep onset or ending and its spring energy (rare: one lock per event)
@@ -33,7 +32,7 @@ namespace {
 	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
 	// flexa::ownsPair).
 	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const Interaction* I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
-	                const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
+	        const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
 	{
 		const bool wasActive = g.lastActiveIter == scene->iter - 1;
 		g.active             = own;
@@ -45,15 +44,17 @@ namespace {
 			// last step, or starts from zero (separation ends the shear history; never reuse a
 			// stale spring, which would bring back energy that was no longer booked)
 			Vector3r sh = Vector3r::Zero();
-			if (nPairs) flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
-			else if (nb) flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
+			if (nPairs)
+				flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
+			else if (nb)
+				flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
 			g.handover      = true;
 			g.handoverShear = sh;
 			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
 		}
 		g.lastActiveIter = scene->iter;
 	}
-}
+} // namespace
 
 namespace {
 	// Facet side of a contact: node states and current positions, or false if a node is gone.
@@ -78,12 +79,13 @@ namespace {
 	// from (kept while the contact lasts, so a probe pushed through the thin membrane is pushed
 	// back); the overlap is measured from that side. Edges and vertices: from P to the closest
 	// point (continuous with the face normal at the region boundary).
-	Vector3r facetNormal(const FacetNodes& fn, const flex::PointTriangle& pt, const Vector3r& P, const Vector3r& side, bool isNew, const Vector3r& prev, Real& dist)
+	Vector3r facetNormal(
+	        const FacetNodes& fn, const flex::PointTriangle& pt, const Vector3r& P, const Vector3r& side, bool isNew, const Vector3r& prev, Real& dist)
 	{
-		const Vector3r d = pt.point - P; // from P to the facet
+		const Vector3r d  = pt.point - P; // from P to the facet
 		const Vector3r nf = fn.normal();
 		if (pt.support == 7) {
-			Real s = isNew ? (d.dot(nf) != 0 ? d.dot(nf) : (pt.point - side).dot(nf)) : prev.dot(nf);
+			Real           s = isNew ? (d.dot(nf) != 0 ? d.dot(nf) : (pt.point - side).dot(nf)) : prev.dot(nf);
 			const Vector3r n = s >= 0 ? nf : Vector3r(-nf);
 			dist             = d.dot(n);
 			return n;
@@ -92,7 +94,7 @@ namespace {
 		if (dist > 0) return d / dist;
 		return isNew ? ((pt.point - side).dot(nf) >= 0 ? nf : Vector3r(-nf)) : prev;
 	}
-}
+} // namespace
 
 namespace {
 	// The steps every element Ig2 takes, in this order (the pair types below supply each step):
@@ -135,17 +137,17 @@ namespace {
 
 	// A sphere (side 1) and an element (side 2): ownership among the elements the sphere touches.
 	struct SphereSide {
-		Scene*            scene;
+		Scene*             scene;
 		const Interaction& I;
-		const State&      st1;
-		Real              R;
-		Vector3r          P;
-		Body::id_t        beaten[8];
-		int               nb = 0;
-		bool              bonded() const { return false; }
-		bool              apart() const { return false; }
-		void              finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, I.getId1(), beaten, nb); }
-		Vector3r          velocityAt(const Vector3r& c) const { return st1.vel + st1.angVel.cross(c - P); }
+		const State&       st1;
+		Real               R;
+		Vector3r           P;
+		Body::id_t         beaten[8];
+		int                nb = 0;
+		bool               bonded() const { return false; }
+		bool               apart() const { return false; }
+		void               finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, I.getId1(), beaten, nb); }
+		Vector3r           velocityAt(const Vector3r& c) const { return st1.vel + st1.angVel.cross(c - P); }
 	};
 	// Two elements: one decision per cluster of element pairs.
 	struct ElementPair {
@@ -153,11 +155,8 @@ namespace {
 		const Interaction&                I;
 		std::pair<Body::id_t, Body::id_t> beaten[8];
 		int                               nPairs = 0;
-		void finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
-		bool ownsPair(const flexa::Element& A, const flexa::Element& B)
-		{
-			return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs);
-		}
+		void                              finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
+		bool ownsPair(const flexa::Element& A, const flexa::Element& B) { return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs); }
 	};
 
 	struct SphereCylinder : SphereSide {
@@ -208,13 +207,13 @@ namespace {
 	};
 
 	struct CylinderCylinder : ElementPair {
-		const FlexCylinder &c1, &c2;
-		const Vector3r&     shift2;
-		const State *       a0 = nullptr, *a1 = nullptr, *b0 = nullptr, *b1 = nullptr;
-		Vector3r            xb0, xb1;
+		const FlexCylinder & c1, &c2;
+		const Vector3r&      shift2;
+		const State *        a0 = nullptr, *a1 = nullptr, *b0 = nullptr, *b1 = nullptr;
+		Vector3r             xb0, xb1;
 		flex::SegmentSegment ss;
-		bool                bonded() const { return flexa::shareNode(c1, c2); }
-		bool                load()
+		bool                 bonded() const { return flexa::shareNode(c1, c2); }
+		bool                 load()
 		{
 			a0 = flexa::stateOf(scene, c1.node1);
 			a1 = flexa::stateOf(scene, c1.node2);
@@ -336,29 +335,29 @@ namespace {
 	};
 } // namespace
 
-bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+bool Ig2_Sphere_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	SphereCylinder p { { scene, *I, st1, static_cast<const Sphere&>(*cm1).radius, st1.pos }, static_cast<const FlexCylinder&>(*cm2), shift2 };
 	return elementGeom(scene, I, force, p);
 }
 
-bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+bool Ig2_FlexCylinder_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	CylinderCylinder p { { scene, *I }, static_cast<const FlexCylinder&>(*cm1), static_cast<const FlexCylinder&>(*cm2), shift2 };
 	return elementGeom(scene, I, force, p);
 }
 
-bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+bool Ig2_Sphere_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	SphereFacet p { { scene, *I, st1, static_cast<const Sphere&>(*cm1).radius, st1.pos }, static_cast<const FlexFacet&>(*cm2), shift2 };
 	return elementGeom(scene, I, force, p);
 }
 
-bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+bool Ig2_FlexCylinder_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State&, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	const FlexCylinder& c  = static_cast<const FlexCylinder&>(*cm1);
 	const FlexFacet&    fa = static_cast<const FlexFacet&>(*cm2);
@@ -376,8 +375,8 @@ bool Ig2_FlexFacet_FlexFacet_FlexContactGeom::go(
 	return false;
 }
 
-bool Ig2_Sphere_Sphere_FlexContactGeom::go(
-        const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State& st2, const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+bool Ig2_Sphere_Sphere_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& st1, const State& st2,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
 	if (scene->isPeriodic) throw std::runtime_error("Ig2_Sphere_Sphere_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
@@ -391,20 +390,20 @@ bool Ig2_Sphere_Sphere_FlexContactGeom::go(
 }
 
 void Ig2_Sphere_Sphere_FlexContactGeom::update(Scene* scene, FlexContactGeom& g, bool isNew, Real R1, Real R2, const Vector3r& x1, const Vector3r& x2,
-                                               const Vector3r& vel1, const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2)
+        const Vector3r& vel1, const Vector3r& angVel1, const Vector3r& vel2, const Vector3r& angVel2)
 {
 	const Vector3r d    = x2 - x1;
 	const Real     dist = d.norm(), overlap = R1 + R2 - dist;
-	g.normal            = dist > 0 ? Vector3r(d / dist) : (isNew ? Vector3r(Vector3r::UnitZ()) : Vector3r(g.normal));
-	g.penetrationDepth  = overlap;
-	g.refR1             = R1;
-	g.refR2             = R2;
-	g.contactPoint      = x1 + (R1 - 0.5 * overlap) * g.normal;
-	g.axis1             = x1;
-	g.axis2             = x2;
-	const Vector3r v1   = vel1 + angVel1.cross(g.contactPoint - x1);
-	const Vector3r v2   = vel2 + angVel2.cross(g.contactPoint - x2);
-	g.relVel            = v2 - v1;
+	g.normal           = dist > 0 ? Vector3r(d / dist) : (isNew ? Vector3r(Vector3r::UnitZ()) : Vector3r(g.normal));
+	g.penetrationDepth = overlap;
+	g.refR1            = R1;
+	g.refR2            = R2;
+	g.contactPoint     = x1 + (R1 - 0.5 * overlap) * g.normal;
+	g.axis1            = x1;
+	g.axis2            = x2;
+	const Vector3r v1  = vel1 + angVel1.cross(g.contactPoint - x1);
+	const Vector3r v2  = vel2 + angVel2.cross(g.contactPoint - x2);
+	g.relVel           = v2 - v1;
 	// no element: the contact is always its own owner (separation ends it, see finishGeom)
 	finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
 }
@@ -436,32 +435,34 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 	if (g.onsetDepth > 0) {
 		const Real approach = std::max(Real(0), -g.normal.dot(g.relVel)) * scene->dt;
-		if (g.onsetDepth > onsetFactor * approach) tally(deepOnsets, deepOnsetEnergy, 0.5 * p.kn * g.onsetDepth * g.onsetDepth);
+		if (g.onsetDepth > onsetFactor * approach)
+			tally(deepOnsets, deepOnsetEnergy, 0.5 * p.kn * g.onsetDepth * g.onsetDepth);
 		else
 			g.onsetDepth = 0; // a normal onset
 	}
-	const Vector3r&              n     = g.normal;
-	const Vector3r               shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
-	const Vector3r               dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
+	const Vector3r&               n     = g.normal;
+	const Vector3r                shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
+	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
 	const flex::FrictionalContact fc { p.kn, p.ks, p.tangensOfFrictionAngle };
 	const flex::FrictionalResult  r = flex::frictionalStep(fc, g.penetrationDepth, n, shear, dus);
-	p.normalForce                    = r.normalForce;
-	p.shearForce                     = r.shearForce;
-	const Vector3r F                 = r.normalForce + r.shearForce; // on side 2
-	const flexa::ForceSink* sink = flexa::currentSink(); // (set by FlexInteractionLoop on several threads)
+	p.normalForce                   = r.normalForce;
+	p.shearForce                    = r.shearForce;
+	const Vector3r          F       = r.normalForce + r.shearForce; // on side 2
+	const flexa::ForceSink* sink    = flexa::currentSink();         // (set by FlexInteractionLoop on several threads)
 	flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -F);
 	flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, F);
-	Real rollEnergy = 0;
-	const Real kr = rollingK(g, p);
+	Real       rollEnergy = 0;
+	const Real kr         = rollingK(g, p);
 	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)
 		if (!angVel1 || !angVel2) {
 			angVel1 = &Body::byId(I->getId1(), scene)->state->angVel;
 			angVel2 = &Body::byId(I->getId2(), scene)->state->angVel;
 		}
-		const Vector3r dw  = *angVel2 - *angVel1;
-		const Vector3r dth = (dw - n.dot(dw) * n) * scene->dt;
-		const Real     Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
-		const flex::CappedSpring rs = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
+		const Vector3r           dw   = *angVel2 - *angVel1;
+		const Vector3r           dth  = (dw - n.dot(dw) * n) * scene->dt;
+		const Real               Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
+		const flex::CappedSpring rs
+		        = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
 		g.rollMoment = rs.value;
 		flexa::addTorque(scene, sink, I->getId1(), -rs.value);
 		flexa::addTorque(scene, sink, I->getId2(), rs.value);

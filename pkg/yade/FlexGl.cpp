@@ -120,8 +120,10 @@ namespace {
 		const Real     deg  = std::atan2(axis.norm(), d[2]) * 180 / M_PI;
 		glPushMatrix();
 		glTranslated(a[0], a[1], a[2]);
-		if (axis.norm() > 1e-12 * L) glRotated(deg, axis[0], axis[1], axis[2]);
-		else if (d[2] < 0) glRotated(180, 1, 0, 0);
+		if (axis.norm() > 1e-12 * L)
+			glRotated(deg, axis[0], axis[1], axis[2]);
+		else if (d[2] < 0)
+			glRotated(180, 1, 0, 0);
 		gluCylinder(quadric(), radius, radius, L, slices, 1);
 		glPopMatrix();
 	}
@@ -147,9 +149,8 @@ void Gl1_FlexCylinder::go(const shared_ptr<Shape>& sh, const shared_ptr<State>& 
 	const Vector3r a = local(*st, s1->pos), b = local(*st, s2->pos);
 	if (colorByForce) {
 		static FrameRange fr;
-		lastRange = colorRange<FlexCylinder>(fr, forceRange, scene, elementId(scene, sh.get(), c.node1), [](const FlexCylinder& e) {
-			return e.axialForce;
-		});
+		lastRange = colorRange<FlexCylinder>(
+		        fr, forceRange, scene, elementId(scene, sh.get(), c.node1), [](const FlexCylinder& e) { return e.axialForce; });
 		color(forceColor(c.axialForce, lastRange));
 	} else
 		color(c.color);
@@ -170,11 +171,11 @@ void Gl1_FlexCylinder::go(const shared_ptr<Shape>& sh, const shared_ptr<State>& 
 
 void Gl1_FlexFacet::go(const shared_ptr<Shape>& sh, const shared_ptr<State>& st, bool wire, const GLViewInfo&)
 {
-	const FlexFacet& f = static_cast<const FlexFacet&>(*sh);
+	const FlexFacet& f    = static_cast<const FlexFacet&>(*sh);
 	const State*     s[3] = { flexa::stateOf(scene, f.node1), flexa::stateOf(scene, f.node2), flexa::stateOf(scene, f.node3) };
 	if (!s[0] || !s[1] || !s[2]) return;
 	const Vector3r x[3] = { local(*st, s[0]->pos), local(*st, s[1]->pos), local(*st, s[2]->pos) };
-	Vector3r col = f.color;
+	Vector3r       col  = f.color;
 	if (colorByForce) {
 		static FrameRange fr;
 		lastRange = colorRange<FlexFacet>(fr, forceRange, scene, elementId(scene, sh.get(), f.node1), [](const FlexFacet& e) { return e.n1; });

@@ -44,8 +44,8 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
 #endif
 	for (long id = 0; id < n; ++id) {
 		Vector3r F = f[0][id], T = t[0][id];
-		f[0][id]   = Vector3r::Zero();
-		t[0][id]   = Vector3r::Zero();
+		f[0][id] = Vector3r::Zero();
+		t[0][id] = Vector3r::Zero();
 		for (int k = 1; k < threads; ++k) {
 			F += f[k][id];
 			T += t[k][id];
@@ -64,8 +64,8 @@ bool FlexInteractionLoop::fallBack()
 	InteractionContainer& ic = *scene->interactions;
 	// the collider asks for unseen potential interactions to go on this step (some colliders only)
 	const bool removeUnseen = ic.iterColliderLastRun >= 0 && ic.iterColliderLastRun == scene->iter;
-	if (prefetch && !removeUnseen && callbacks.empty() && !loopOnSortedInteractions && blockSize >= 1 && blockSize <= kMaxBlock
-	    && ahead[0] >= ahead[1] && ahead[1] >= ahead[2] && ahead[2] >= 1)
+	if (prefetch && !removeUnseen && callbacks.empty() && !loopOnSortedInteractions && blockSize >= 1 && blockSize <= kMaxBlock && ahead[0] >= ahead[1]
+	        && ahead[1] >= ahead[2] && ahead[2] >= 1)
 		return false;
 	usedFastPath    = false;
 	usedThreadSums  = false;

@@ -85,8 +85,8 @@ private:
 	// the sphere-sphere functors among them (Ig2_Sphere_Sphere_FlexContactGeom), and this step's
 	// centres and radii of the bodies that are plain Spheres (r < 0: any other body), by id
 	std::vector<const IGeomFunctor*> sphereReaders;
-	std::vector<SpherePoint> spherePoints;
-	std::vector<SphereMotion> sphereMotion;
+	std::vector<SpherePoint>         spherePoints;
+	std::vector<SphereMotion>        sphereMotion;
 	// the ids of the bodies that were plain Spheres when the body container last changed size (or
 	// the scene changed): the table is filled from these bodies only, every other entry keeps
 	// r = -1 (a body made a Sphere since then takes the full path, as any non-sphere)

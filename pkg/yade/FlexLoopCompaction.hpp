@@ -20,7 +20,7 @@ namespace flexa {
 		};
 		struct InBlock {
 			shared_ptr<ContactBlock> block;
-			template <class T> void operator()(T* p) const { p->~T(); }
+			template <class T> void  operator()(T* p) const { p->~T(); }
 		};
 		constexpr size_t kGeomBytes = (sizeof(FlexContactGeom) + 15) & ~size_t(15), kPhysBytes = (sizeof(FrictPhys) + 15) & ~size_t(15);
 		// a yade-flex contact with FrictPhys that nothing but its interaction holds (an object that

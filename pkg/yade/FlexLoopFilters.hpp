@@ -39,16 +39,16 @@ namespace flexa {
 		// happens inside the functor (it returns false first thing) and after it in the loop
 		// (nothing for a pair that was not real).
 		struct Marked {
-			bool                                     valid = false;
+			bool                                     valid   = false;
 			const std::vector<const IGeomFunctor*>*  readers = nullptr; // flexa::readsUnreachableMarks, of this loop's functors
-			const std::pair<Body::id_t, Body::id_t>* pairs  = nullptr; // the marks, by Interaction::linIx
-			size_t                                   nPairs = 0;
-			Marked() = default;
+			const std::pair<Body::id_t, Body::id_t>* pairs   = nullptr; // the marks, by Interaction::linIx
+			size_t                                   nPairs  = 0;
+			Marked()                                         = default;
 			Marked(const Scene* scene, const std::vector<const IGeomFunctor*>* r)
 			        : readers(r)
 			{
 				const flexa::UnreachableMarks& m = flexa::unreachableMarks();
-				valid = m.valid(scene);
+				valid                            = m.valid(scene);
 				if (valid) {
 					pairs  = m.pair.data();
 					nPairs = m.pair.size();
@@ -74,9 +74,9 @@ namespace flexa {
 		// asks for more, |x2 - x1|^2 > (R1 + R2)^2 (1 + 1e-12), so that round-off can never make the
 		// two disagree (the pairs in between go to the functor).
 		struct Apart {
-			const std::vector<const IGeomFunctor*>*   readers = nullptr; // the sphere-sphere functors (null: quickReject off)
-			const FlexInteractionLoop::SpherePoint*   p       = nullptr; // this step's table (null: not made)
-			long                                      n       = 0;
+			const std::vector<const IGeomFunctor*>* readers = nullptr; // the sphere-sphere functors (null: quickReject off)
+			const FlexInteractionLoop::SpherePoint* p       = nullptr; // this step's table (null: not made)
+			long                                    n       = 0;
 			// 0: not a candidate; 1: a candidate the table does not leave out (or no table); 2: left out.
 			// A candidate: no contact and the sphere-sphere functor, or no functor cached yet (a new
 			// pair, which may become one).
@@ -107,11 +107,11 @@ namespace flexa {
 		// then call exactly Ig2_Sphere_Sphere_FlexContactGeom::update and the law's apply, on the same
 		// values read from the bodies' states and shapes instead of the table.
 		struct Fusable {
-			const std::vector<const IGeomFunctor*>*   geoms = nullptr; // the sphere-sphere functors (null: fuseSpheres off)
-			const IPhysFunctor*                       phys  = nullptr;
-			const LawFunctor*                         law   = nullptr;
-			const FlexInteractionLoop::SpherePoint*   p     = nullptr; // this step's table (null: not made)
-			long                                      n     = 0;
+			const std::vector<const IGeomFunctor*>* geoms = nullptr; // the sphere-sphere functors (null: fuseSpheres off)
+			const IPhysFunctor*                     phys  = nullptr;
+			const LawFunctor*                       law   = nullptr;
+			const FlexInteractionLoop::SpherePoint* p     = nullptr; // this step's table (null: not made)
+			long                                    n     = 0;
 			// 0: not fusable; 1: fusable but not on this step (no table, or a body not a plain sphere); 2: fused
 			int operator()(const Interaction& I) const
 			{

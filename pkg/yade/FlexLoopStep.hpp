@@ -123,7 +123,8 @@ public:
 				}
 			if (fusable.phys && fusable.law) fusable.geoms = &L.sphereReaders;
 		}
-		fusedLaw = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
+		fusedLaw = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(
+		        static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
 		// (the sphere functor throws in periodic scenes: not used there)
 		if (L.quickReject && !L.sphereReaders.empty() && !scene->isPeriodic) apart.readers = &L.sphereReaders;
 	}
@@ -197,10 +198,11 @@ public:
 	void startRecords()
 	{
 		if (L.rememberSkips) {
-			const unsigned long marksGen  = marked.valid ? flexa::unreachableMarks().generation : 0;
-			const bool          quick     = apart.readers != nullptr;
-			const bool          newQuick  = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
-			const bool          newMarked = newQuick || marked.valid != L.recMarksValid || marksGen != L.recMarks || ic.iterColliderLastRun != L.recColliderRun;
+			const unsigned long marksGen = marked.valid ? flexa::unreachableMarks().generation : 0;
+			const bool          quick    = apart.readers != nullptr;
+			const bool          newQuick = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
+			const bool          newMarked
+			        = newQuick || marked.valid != L.recMarksValid || marksGen != L.recMarks || ic.iterColliderLastRun != L.recColliderRun;
 			if (newQuick && (scene != L.recScene || &ic != L.recContainer)) L.held.clear(); // (let the old scene's objects go)
 			if (newMarked) {
 				const bool wrap = L.recGen > std::numeric_limits<unsigned>::max() - 2;
@@ -300,8 +302,8 @@ public:
 #ifdef YADE_OPENMP
 		{
 			const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
-			cBegin       = blockAtWeight(tid, nt);
-			cEnd         = blockAtWeight(tid + 1, nt);
+			cBegin = blockAtWeight(tid, nt);
+			cEnd   = blockAtWeight(tid + 1, nt);
 		}
 #endif
 		long live[flexa::tuning::kMaxBlock];
@@ -409,7 +411,8 @@ public:
 			if (j + kMid < nLive) flexa::loop::fetchTargets(intrs[live[j + kMid]].get(), bodies, fused[j + kMid]);
 			if (j + kNear < nLive && !fused[j + kNear]) flexa::loop::fetchStates(intrs[live[j + kNear]].get(), bodies);
 			try {
-				if (fused[j]) runFused(intrs[live[j]]);
+				if (fused[j])
+					runFused(intrs[live[j]]);
 				else
 					runFunctors(intrs[live[j]]);
 			} catch (...) {
@@ -424,9 +427,8 @@ public:
 		const Body::id_t   i1 = I->getId1(), i2 = I->getId2();
 		const SpherePoint &a = pts[i1], &b = pts[i2];
 		FlexContactGeom&   g = static_cast<FlexContactGeom&>(*I->geom);
-		Ig2_Sphere_Sphere_FlexContactGeom::update(
-		        scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z), Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel,
-		        mot[i2].vel, mot[i2].angVel);
+		Ig2_Sphere_Sphere_FlexContactGeom::update(scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z),
+		        Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel, mot[i2].vel, mot[i2].angVel);
 		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
 	}
 	// the geometry, physics and law functors of one interaction, as InteractionLoop calls them
@@ -470,9 +472,8 @@ public:
 			bool swapPhys        = false;
 			I->functorCache.phys = L.physDispatcher->getFunctor2D(b1->material, b2->material, swapPhys);
 			if (!I->functorCache.phys)
-				throw std::runtime_error(
-				        "FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and " + b2->material->getClassName()
-				        + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+				throw std::runtime_error("FlexInteractionLoop: no Ip2 functor for materials " + b1->material->getClassName() + " and "
+				        + b2->material->getClassName() + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
 		}
 		I->functorCache.phys->go(b1->material, b2->material, I);
 		if (!wasReal) I->iterMadeReal = scene->iter;
@@ -480,9 +481,8 @@ public:
 			bool swapLaw             = false;
 			I->functorCache.constLaw = L.lawDispatcher->getFunctor2D(I->geom, I->phys, swapLaw);
 			if (!I->functorCache.constLaw)
-				throw std::runtime_error(
-				        "FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and " + I->phys->getClassName() + " (bodies #"
-				        + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
+				throw std::runtime_error("FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and "
+				        + I->phys->getClassName() + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
 		}
 		if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
 	}

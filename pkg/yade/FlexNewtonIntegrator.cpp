@@ -31,7 +31,8 @@ void FlexNewtonIntegrator::refresh()
 		// aspherical bodies take NewtonIntegrator's aspherical integrator (and its kinetic energy);
 		// a clump with isotropic inertia, not flagged aspherical, integrates like a sphere
 		if (b->isAspherical()) simple = false;
-		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get())) elements.push_back(b->id);
+		if (b->shape && dynamic_cast<const FlexCylinder*>(b->shape.get()))
+			elements.push_back(b->id);
 		else if (b->shape && dynamic_cast<const FlexFacet*>(b->shape.get()))
 			facets.push_back(b->id);
 		else
@@ -53,8 +54,8 @@ void FlexNewtonIntegrator::flagElements()
 	for (Body::id_t id : elements) {
 		const Body* b = flexa::bodyAt(scene, id);
 		if (!b || !b->bound) continue;
-		const FlexCylinder* c = static_cast<const FlexCylinder*>(b->shape.get());
-		const State *s1 = flexa::stateOf(scene, c->node1), *s2 = flexa::stateOf(scene, c->node2);
+		const FlexCylinder* c  = static_cast<const FlexCylinder*>(b->shape.get());
+		const State *       s1 = flexa::stateOf(scene, c->node1), *s2 = flexa::stateOf(scene, c->node2);
 		if (!s1 || !s2) continue;
 		const Real d = std::max((s1->pos - c->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - c->boundRef2).cwiseAbs().maxCoeff());
 		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
@@ -68,7 +69,7 @@ void FlexNewtonIntegrator::flagElements()
 		const State *    s1 = flexa::stateOf(scene, f->node1), *s2 = flexa::stateOf(scene, f->node2), *s3 = flexa::stateOf(scene, f->node3);
 		if (!s1 || !s2 || !s3) continue;
 		const Real d = std::max({ (s1->pos - f->boundRef1).cwiseAbs().maxCoeff(), (s2->pos - f->boundRef2).cwiseAbs().maxCoeff(),
-		                          (s3->pos - f->boundRef3).cwiseAbs().maxCoeff() });
+		        (s3->pos - f->boundRef3).cwiseAbs().maxCoeff() });
 		flag         = std::max(flag, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 	}
 	maxVelocitySq = std::max(maxVelocitySq, flag);
@@ -87,7 +88,7 @@ bool FlexNewtonIntegrator::buildNodeTable()
 	const size_t n      = bodies.size();
 	nodeSweep.assign(n, -1);
 	nodeRef.resize(n);
-	nodeBase = 0;
+	nodeBase        = 0;
 	auto addElement = [&](const Body& b, const int* nodes, const Vector3r* refs, int nNodes) -> bool {
 		for (int k = 0; k < nNodes; ++k)
 			if (!flexa::stateOf(scene, nodes[k])) return true; // skipped, as in flagElements
@@ -100,7 +101,8 @@ bool FlexNewtonIntegrator::buildNodeTable()
 			if (sw < 0) {
 				sw           = sweep;
 				nodeRef[nid] = refs[k];
-			} else if (nodeRef[nid] != refs[k]) return false;
+			} else if (nodeRef[nid] != refs[k])
+				return false;
 			else
 				sw = std::min(sw, sweep);
 		}
@@ -137,7 +139,7 @@ namespace {
 			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 		}
 	};
-}
+} // namespace
 
 Real FlexNewtonIntegrator::dampingOnBlockedDofs()
 {
@@ -177,26 +179,27 @@ void FlexNewtonIntegrator::action()
 	const Real dt    = scene->dt;
 	const bool track = scene->trackEnergy;
 	const long runs  = flexa::insertionSortColliderRuns(scene);
-	if (runs < 0) nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
+	if (runs < 0)
+		nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
 	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
-		nodeTableOk    = buildNodeTable();
-		tableRuns      = runs;
-		tableErasures  = flexa::elementErasures();
+		nodeTableOk   = buildNodeTable();
+		tableRuns     = runs;
+		tableErasures = flexa::elementErasures();
 	}
-	const bool  byNode = nodeTableOk;
-	const Real* nSweep = nodeSweep.data();
-	const Vector3r* nRef = nodeRef.data();
+	const bool      byNode = nodeTableOk;
+	const Real*     nSweep = nodeSweep.data();
+	const Vector3r* nRef   = nodeRef.data();
 	// the collider trigger's maximum (0.5: every body inside its sweep, 2: one left it), each
 	// thread's own in the reduction (a shared table of per-thread entries would put two threads'
 	// writes on one cache line)
-	Real sweepMax = 0;
-	const shared_ptr<Body>* bodies = scene->bodies->body.data();
-	const long n      = (long)movers.size();
-	const Body::id_t* mv = movers.data();
-	const bool        pf = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
+	Real                         sweepMax = 0;
+	const shared_ptr<Body>*      bodies   = scene->bodies->body.data();
+	const long                   n        = (long)movers.size();
+	const Body::id_t*            mv       = movers.data();
+	const bool                   pf       = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
 	const flex::LeapFrogSettings lf { dt, gravity, damping, flex::DampFactors(damping), dampGravity };
-	Real eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
-	long nDamp = 0;
+	Real                         eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
+	long                         nDamp = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax)
 #endif
@@ -215,7 +218,7 @@ void FlexNewtonIntegrator::action()
 		const shared_ptr<Body>& b  = bodies[id];
 		if (!b) continue; // erased; element bodies (no DOF) are not in `movers`
 		State* st = b->state.get();
-		Real& mx = sweepMax;
+		Real&  mx = sweepMax;
 		if (b->isClump()) { // the members' forces and moments about the clump's centre, added as NewtonIntegrator does
 			Vector3r F = Vector3r::Zero(), T = Vector3r::Zero();
 			static_cast<Clump*>(b->shape.get())->addForceTorqueFromMembers(st, scene, F, T);
@@ -227,8 +230,8 @@ void FlexNewtonIntegrator::action()
 			scene->forces.addForce(id, F);
 #endif
 		}
-		const Vector3r f = scene->forces.getForce(id);
-		const Vector3r m = scene->forces.getTorque(id);
+		const Vector3r f       = scene->forces.getForce(id);
+		const Vector3r m       = scene->forces.getTorque(id);
 		const unsigned blocked = st->blockedDOFs;
 		static_assert(unsigned(State::DOF_ALL) == flex::kAllDofs, "the kernel numbers DOFs as State::axisDOF");
 		flex::BodyDofs dofs { st->pos, st->vel, st->angVel, st->ori, st->inertia, st->mass, blocked, st->isDamped };
@@ -254,7 +257,8 @@ void FlexNewtonIntegrator::action()
 	}
 	if (track && n > 0) {
 		if (nDamp) flexa::addEnergy(scene, eDamp, "nonviscDamp", nonviscDampIx, false);
-		if (!kinSplit) flexa::addEnergy(scene, eKinT + eKinR, "kinetic", kinEnergyIx, true);
+		if (!kinSplit)
+			flexa::addEnergy(scene, eKinT + eKinR, "kinetic", kinEnergyIx, true);
 		else {
 			flexa::addEnergy(scene, eKinT, "kinTrans", kinEnergyTransIx, true);
 			flexa::addEnergy(scene, eKinR, "kinRot", kinEnergyRotIx, true);
@@ -262,7 +266,8 @@ void FlexNewtonIntegrator::action()
 		flexa::addEnergy(scene, eGrav, "gravWork", fieldWorkIx, false);
 	}
 	maxVelocitySq = sweepMax;
-	if (byNode) maxVelocitySq = std::max(maxVelocitySq, nodeBase);
+	if (byNode)
+		maxVelocitySq = std::max(maxVelocitySq, nodeBase);
 	else
 		flagElements();
 }

@@ -15,13 +15,15 @@ namespace flexa {
 	/// Whether element `self` (body selfId) carries the contact of a probe sphere (P, R) whose
 	/// closest point on self is `hit`; if so, the other elements of its cluster are in `beaten`
 	/// (at most 8).
-	inline bool owns(const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
+	inline bool owns(
+	        const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
 	{
 		return flex::owns(SceneMesh { scene }, self, selfId, P, R, hit, beaten, nBeaten);
 	}
 	/// Whether the element pair (idA, idB) carries its cluster's contact; if so, the other pairs
 	/// are in `beaten` (A-side id, B-side id; at most 8).
-	inline bool ownsPair(const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
+	inline bool ownsPair(
+	        const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
 	{
 		return flex::ownsPair(SceneMesh { scene }, idA, A, idB, B, beaten, nBeaten);
 	}

@@ -20,7 +20,7 @@ namespace flexa {
 		struct EngineMemo {
 			const Scene*                                                 scene = nullptr;
 			std::vector<std::pair<const Engine*, const std::type_info*>> seen;
-			const Engine*                                                collider = nullptr; // (the list holds it)
+			const Engine*                                                collider     = nullptr; // (the list holds it)
 			bool                                                         orderChecked = false;
 			// true if the list is the one seen last; else remembers it and finds its collider
 			bool same(const Scene* s)
@@ -32,8 +32,8 @@ namespace flexa {
 					same            = e == seen[i].first && (!e || &typeid(*e) == seen[i].second);
 				}
 				if (same) return true;
-				scene = s;
-				collider = nullptr;
+				scene        = s;
+				collider     = nullptr;
 				orderChecked = false;
 				seen.clear();
 				for (const auto& e : engines) {
@@ -68,7 +68,7 @@ namespace flexa {
 			s << " at O.engines[" << at << "]";
 			return s.str();
 		}
-	}
+	} // namespace
 
 	long insertionSortColliderRuns(const Scene* scene)
 	{
@@ -90,8 +90,8 @@ namespace flexa {
 		EngineMemo& m = memo();
 		if (m.same(scene) && m.orderChecked) return;
 		const auto& engines = scene->engines;
-		int         best = -1;
-		size_t      at   = 0;
+		int         best    = -1;
+		size_t      at      = 0;
 		for (size_t i = 0; i < engines.size(); ++i) {
 			const int r = rank(engines[i].get());
 			if (r < 0) continue;

@@ -69,11 +69,11 @@ namespace flexa {
 	/// A mark is the pair's ids at its index in the interaction container (an interaction moved
 	/// by an erase no longer matches and is simply tested).
 	struct UnreachableMarks {
-		const Scene*                                   scene = nullptr; // null: no marks
-		std::vector<std::pair<Body::id_t, Body::id_t>> pair;            // by Interaction::linIx; (-1, -1): none
-		unsigned long                                  generation = 0;  // one more at each new set of marks
-		shared_ptr<Engine>                             collider;        // the InsertionSortCollider whose runs retire them (kept alive)
-		const int*                                     runs = nullptr;  // its run count (InsertionSortCollider::numAction)
+		const Scene*                                   scene = nullptr;         // null: no marks
+		std::vector<std::pair<Body::id_t, Body::id_t>> pair;                    // by Interaction::linIx; (-1, -1): none
+		unsigned long                                  generation = 0;          // one more at each new set of marks
+		shared_ptr<Engine>                             collider;                // the InsertionSortCollider whose runs retire them (kept alive)
+		const int*                                     runs          = nullptr; // its run count (InsertionSortCollider::numAction)
 		int                                            runsAtMarking = -1;
 		/// Whether the marks hold for scene s (made for it, and its collider has not run since).
 		bool valid(const Scene* s) const { return scene == s && runs && *runs == runsAtMarking; }

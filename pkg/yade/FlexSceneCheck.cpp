@@ -23,8 +23,8 @@ namespace flexa {
 		// stay finite in double precision (1e100^3 = 1e300 < 1.8e308).
 		constexpr Real kHuge = 1e100;
 		bool           finite(Real x) { return std::abs(x) < kHuge; } // (false for NaN and inf too)
-		bool finite(const Vector3r& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
-		bool finite(const Quaternionr& q) { return finite(q.w()) && finite(q.x()) && finite(q.y()) && finite(q.z()); }
+		bool           finite(const Vector3r& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
+		bool           finite(const Quaternionr& q) { return finite(q.w()) && finite(q.x()) && finite(q.y()) && finite(q.z()); }
 
 		[[noreturn]] void refuse(const Body& b, const std::string& field, const std::string& what)
 		{
@@ -49,7 +49,7 @@ namespace flexa {
 
 		void checkNodes(const Scene* scene, const Body& b, const int* ids, int n, const std::vector<char>& isNode)
 		{
-			const auto& bodies = scene->bodies->body;
+			const auto&        bodies   = scene->bodies->body;
 			static const char* names[3] = { "node1", "node2", "node3" };
 			for (int a = 0; a < n; ++a) {
 				const int id = ids[a];
@@ -58,7 +58,9 @@ namespace flexa {
 					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a body of the scene");
 				if (!isNode[id]) {
 					const Shape* s = bodies[id]->shape.get();
-					refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " is not a FlexNode (it is a " + (s ? s->getClassName() : std::string("body without shape")) + ")");
+					refuse(b, std::string("shape.") + names[a],
+					        "= " + std::to_string(id) + " is not a FlexNode (it is a "
+					                + (s ? s->getClassName() : std::string("body without shape")) + ")");
 				}
 				for (int c = 0; c < a; ++c)
 					if (ids[c] == id) refuse(b, std::string("shape.") + names[a], "= " + std::to_string(id) + " repeats " + names[c]);
@@ -93,7 +95,8 @@ namespace flexa {
 				if (!(std::isfinite(fm->hardening) && fm->hardening >= 0)) bad("hardening", fm->hardening, "finite and >= 0");
 				if (!(fm->tensileStrength > 0)) bad("tensileStrength", fm->tensileStrength, "positive (inf: never breaks)");
 				if (!(fm->ruptureStrain > 0)) bad("ruptureStrain", fm->ruptureStrain, "positive (inf: never breaks)");
-				if (!(std::isfinite(fm->wireSlackScale) && fm->wireSlackScale >= 0)) bad("wireSlackScale", fm->wireSlackScale, "finite and >= 0");
+				if (!(std::isfinite(fm->wireSlackScale) && fm->wireSlackScale >= 0))
+					bad("wireSlackScale", fm->wireSlackScale, "finite and >= 0");
 				if (!(fm->wireForceRatio > 0 && fm->wireForceRatio <= 1)) bad("wireForceRatio", fm->wireForceRatio, "in (0, 1]");
 			}
 			if (const FlexMembraneMat* mm = dynamic_cast<const FlexMembraneMat*>(m)) {
@@ -110,7 +113,8 @@ namespace flexa {
 			if (!finite(s.vel)) refuse(b, "state.vel", "must be finite (below 1e100), " + got(s.vel));
 			if (!finite(s.angVel)) refuse(b, "state.angVel", "must be finite (below 1e100), " + got(s.angVel));
 			if (!(finite(s.mass) && s.mass >= 0)) refuse(b, "state.mass", "must be finite (below 1e100) and >= 0, " + got(s.mass));
-			if (!(finite(s.inertia) && s.inertia.minCoeff() >= 0)) refuse(b, "state.inertia", "must be finite (below 1e100) and >= 0, " + got(s.inertia));
+			if (!(finite(s.inertia) && s.inertia.minCoeff() >= 0))
+				refuse(b, "state.inertia", "must be finite (below 1e100) and >= 0, " + got(s.inertia));
 			if (element || b.isClumpMember() || !b.isDynamic()) return;
 			const unsigned blocked = s.blockedDOFs;
 			if ((blocked & State::DOF_XYZ) != State::DOF_XYZ && s.mass == 0)
@@ -118,9 +122,10 @@ namespace flexa {
 			static const unsigned rot[3] = { State::DOF_RX, State::DOF_RY, State::DOF_RZ };
 			for (int k = 0; k < 3; ++k)
 				if (!(blocked & rot[k]) && s.inertia[k] == 0)
-					refuse(b, "state.inertia", "is 0 about a free rotation axis (" + got(s.inertia) + "; give it an inertia, or block its rotations)");
+					refuse(b, "state.inertia",
+					        "is 0 about a free rotation axis (" + got(s.inertia) + "; give it an inertia, or block its rotations)");
 		}
-	}
+	} // namespace
 
 	namespace {
 		template <class E> [[noreturn]] void refuseEngine(const E& e, const char* field, Real v, const char* need)
@@ -148,11 +153,12 @@ namespace flexa {
 								refuseEngine(*law, "rollingStiffness", law->rollingStiffness, "finite and >= 0");
 							if (!(std::isfinite(law->rollingFriction) && law->rollingFriction >= 0))
 								refuseEngine(*law, "rollingFriction", law->rollingFriction, "finite and >= 0");
-							if (!(std::isfinite(law->onsetFactor) && law->onsetFactor > 0)) refuseEngine(*law, "onsetFactor", law->onsetFactor, "finite and positive");
+							if (!(std::isfinite(law->onsetFactor) && law->onsetFactor > 0))
+								refuseEngine(*law, "onsetFactor", law->onsetFactor, "finite and positive");
 						}
 			}
 		}
-	}
+	} // namespace
 
 	void checkScene(const Scene* scene, bool force)
 	{
@@ -169,7 +175,7 @@ namespace flexa {
 		isNode.assign(n, 0);
 		std::vector<const Material*> materials; // (a scene has a handful)
 		const Material*              lastMat = nullptr;
-		std::vector<const Body*> elements; // (checked against the node table once it is complete)
+		std::vector<const Body*>     elements; // (checked against the node table once it is complete)
 		for (long id = 0; id < n; ++id) {
 			// two levels ahead: the body 32 ahead, then what is read of the one 16 ahead
 			using flexa::tuning::kAheadCheckBodies;
@@ -186,7 +192,8 @@ namespace flexa {
 			bool         element = false;
 			if (sh) {
 				const std::type_info& t = typeid(*sh);
-				if (t == typeid(FlexNode)) isNode[id] = 1;
+				if (t == typeid(FlexNode))
+					isNode[id] = 1;
 				else if (t == typeid(Sphere))
 					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
 				else if ((element = flexa::fastCast<FlexCylinder>(sh) || flexa::fastCast<FlexFacet>(sh)))
@@ -229,5 +236,5 @@ namespace flexa {
 			throw std::invalid_argument(os.str());
 		}
 	}
-}
-}
+} // namespace flexa
+} // namespace yade

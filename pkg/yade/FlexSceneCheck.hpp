@@ -28,5 +28,5 @@ namespace flexa {
 	void checkScene(const Scene* scene, bool force = false);
 	/// O.dt finite and positive (the integrator asks, after the time stepper had its turn).
 	void checkTimeStep(const Scene* scene);
-}
-}
+} // namespace flexa
+} // namespace yade

@@ -21,7 +21,7 @@ namespace {
 		throw std::invalid_argument(os.str());
 	}
 	bool finite(const Vector3r& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-}
+} // namespace
 
 std::string FlexMat::wireError() const
 {
@@ -47,20 +47,23 @@ void FlexCylinder::attach(int selfId)
 		if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id]) bad(selfId, "end node #" + std::to_string(id) + " does not exist");
 		const shared_ptr<Body>& n = (*scene->bodies)[id];
 		if (!n->shape || !dynamic_cast<FlexNode*>(n->shape.get()))
-			bad(selfId, "end body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape")) + ", not a FlexNode");
+			bad(selfId,
+			        "end body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape"))
+			                + ", not a FlexNode");
 		if (!finite(n->state->pos)) bad(selfId, "end node #" + std::to_string(id) + " has a non-finite position");
 	}
 	const FlexMat* mat = dynamic_cast<const FlexMat*>(self->material.get());
 	if (!mat) bad(selfId, "material must be a FlexMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
 	if (!(mat->density > 0) || !std::isfinite(mat->density)) bad(selfId, "material density must be positive and finite");
 	if (!(mat->young > 0) || !std::isfinite(mat->young)) bad(selfId, "material young must be positive and finite");
-	if (!std::isnan(mat->elementYoung) && !(mat->elementYoung > 0 && std::isfinite(mat->elementYoung))) bad(selfId, "material elementYoung must be positive and finite (or NaN: young)");
+	if (!std::isnan(mat->elementYoung) && !(mat->elementYoung > 0 && std::isfinite(mat->elementYoung)))
+		bad(selfId, "material elementYoung must be positive and finite (or NaN: young)");
 	if (!(mat->bendingFactor >= 0)) bad(selfId, "material bendingFactor must be >= 0");
 	const std::string wireErr = mat->wireError();
 	if (!wireErr.empty()) bad(selfId, "material '" + mat->label + "': " + wireErr);
-	State&          s1 = *(*scene->bodies)[node1]->state;
-	State&          s2 = *(*scene->bodies)[node2]->state;
-	const Vector3r  d  = s2.pos - s1.pos;
+	State&         s1 = *(*scene->bodies)[node1]->state;
+	State&         s2 = *(*scene->bodies)[node2]->state;
+	const Vector3r d  = s2.pos - s1.pos;
 	if (!(d.norm() > 1e-9 * radius)) bad(selfId, "nodes #" + std::to_string(node1) + " and #" + std::to_string(node2) + " coincide (zero length)");
 
 	const flex::BeamRest rest = flex::makeBeamRest(s1.pos, s2.pos, s1.ori, s2.ori);
@@ -92,9 +95,9 @@ void FlexCylinder::attach(int selfId)
 void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, const Se3r&, const Body*)
 {
 	if (scene->isPeriodic) throw std::runtime_error("Bo1_FlexCylinder_Aabb: periodic scenes are not supported by yade-flex yet.");
-	FlexCylinder&       c  = static_cast<FlexCylinder&>(*sh);
-	const State*        s1 = flexa::stateOf(scene, c.node1);
-	const State*        s2 = flexa::stateOf(scene, c.node2);
+	FlexCylinder& c  = static_cast<FlexCylinder&>(*sh);
+	const State*  s1 = flexa::stateOf(scene, c.node1);
+	const State*  s2 = flexa::stateOf(scene, c.node2);
 	if (!s1 || !s2) return; // a node was erased: no bound, no new contact
 	if (!bv) bv = shared_ptr<Bound>(new Aabb);
 	Aabb*          aabb = static_cast<Aabb*>(bv.get());
@@ -107,7 +110,7 @@ void Bo1_FlexCylinder_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& b
 
 void FlexFacet::attach(int selfId)
 {
-	auto fail = [selfId](const std::string& what) { bad(selfId, what, "FlexFacet"); };
+	auto   fail  = [selfId](const std::string& what) { bad(selfId, what, "FlexFacet"); };
 	Scene* scene = Omega::instance().getScene().get();
 	if (selfId < 0 || selfId >= (int)scene->bodies->size() || !(*scene->bodies)[selfId]) fail("no such body");
 	const shared_ptr<Body>& self = (*scene->bodies)[selfId];
@@ -120,21 +123,24 @@ void FlexFacet::attach(int selfId)
 		if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id]) fail("corner node #" + std::to_string(id) + " does not exist");
 		const shared_ptr<Body>& n = (*scene->bodies)[id];
 		if (!n->shape || !dynamic_cast<FlexNode*>(n->shape.get()))
-			fail("corner body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape")) + ", not a FlexNode");
+			fail("corner body #" + std::to_string(id) + " is a " + (n->shape ? n->shape->getClassName() : std::string("body without shape"))
+			        + ", not a FlexNode");
 		if (!finite(n->state->pos)) fail("corner node #" + std::to_string(id) + " has a non-finite position");
 	}
 	const FlexMembraneMat* mat = dynamic_cast<const FlexMembraneMat*>(self->material.get());
 	if (!mat) fail("material must be a FlexMembraneMat, got " + (self->material ? self->material->getClassName() : std::string("none")));
 	if (!(mat->stiffness > 0) || !std::isfinite(mat->stiffness)) fail("material stiffness (E t) must be positive and finite");
 	if (!(mat->arealDensity > 0) || !std::isfinite(mat->arealDensity)) fail("material arealDensity must be positive and finite");
-	if (!(mat->membranePoisson >= 0 && mat->membranePoisson < 0.5)) fail("material membranePoisson must be in [0, 0.5) (the time step's stretch bound is not valid for auxetic membranes)");
+	if (!(mat->membranePoisson >= 0 && mat->membranePoisson < 0.5))
+		fail("material membranePoisson must be in [0, 0.5) (the time step's stretch bound is not valid for auxetic membranes)");
 	if (!(mat->young > 0) || !std::isfinite(mat->young)) fail("material young (contact modulus) must be positive and finite");
 	State* s[3];
 	for (int k = 0; k < 3; ++k)
 		s[k] = (*scene->bodies)[ids[k]]->state.get();
 	const flex::MembraneRest rest = flex::makeMembraneRest(s[0]->pos, s[1]->pos, s[2]->pos);
 	if (!(rest.A0 > 0))
-		fail("nodes #" + std::to_string(node1) + ", #" + std::to_string(node2) + ", #" + std::to_string(node3) + " are collinear or coincident (zero area)");
+		fail("nodes #" + std::to_string(node1) + ", #" + std::to_string(node2) + ", #" + std::to_string(node3)
+		        + " are collinear or coincident (zero area)");
 	// Dm is upper triangular: store its entries (|a|, b.e1, b.e2)
 	restEdges = Vector3r(1 / rest.DmInv(0, 0), -rest.DmInv(0, 1) / (rest.DmInv(0, 0) * rest.DmInv(1, 1)), 1 / rest.DmInv(1, 1));
 	area0     = rest.A0;

@@ -30,10 +30,10 @@ namespace flexa {
 		// What the time step needs of one body, gathered once per estimate (dynamic_casts and
 		// shared_ptr hops once per body instead of once per interaction side).
 		struct StepBody {
-			Real            invSqrtMass = 0; // 1/sqrt(m); 0: no row of its own, infinite mass to others
-			Real            Imin        = 0; // smallest principal inertia of a dynamic body, else 0
+			Real            invSqrtMass = 0;  // 1/sqrt(m); 0: no row of its own, infinite mass to others
+			Real            Imin        = 0;  // smallest principal inertia of a dynamic body, else 0
 			Real            radius      = -1; // contact radius (sphere, cylinder, facet), -1: Ip2 takes the other side's
-			Real            kappa       = 0; // facet: triangle load factor - 1 (see triangleLoadFactor)
+			Real            kappa       = 0;  // facet: triangle load factor - 1 (see triangleLoadFactor)
 			const FrictMat* mat         = nullptr;
 			bool            sphere      = false; // a Sphere shape (clump members too)
 			bool            shaped      = false; // the body exists and has a shape
@@ -42,9 +42,9 @@ namespace flexa {
 
 		std::vector<StepBody> stepBodies(const Scene* scene)
 		{
-			const auto&           bodies = *scene->bodies;
-			const shared_ptr<Body>* body = bodies.body.data(); // (BodyContainer::operator[] is an out-of-line call)
-			const long              n    = (long)bodies.body.size();
+			const auto&             bodies = *scene->bodies;
+			const shared_ptr<Body>* body   = bodies.body.data(); // (BodyContainer::operator[] is an out-of-line call)
+			const long              n      = (long)bodies.body.size();
 			std::vector<StepBody>   out(n);
 			const Material*         lastMat   = nullptr;
 			const FrictMat*         lastFrict = nullptr;
@@ -110,7 +110,8 @@ namespace flexa {
 		// the pairs left out are also marked for the geometry functors (flexa::UnreachableMarks).
 		class ContactRowsPass {
 		public:
-			ContactRowsPass(const Scene* s, bool prefetch, bool skipUnreachable, bool mark, std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut)
+			ContactRowsPass(
+			        const Scene* s, bool prefetch, bool skipUnreachable, bool mark, std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut)
 			        : scene(s)
 			        , sb(stepBodies(s))
 			        , nb((Body::id_t)sb.size())
@@ -134,38 +135,39 @@ namespace flexa {
 			Real run(Body::id_t& stiffest, long& skippedCount)
 			{
 				InteractionContainer& ic = *scene->interactions;
-				nI                             = (long)ic.size();
-				intrs                          = nI ? &ic[0] : nullptr;
+				nI                       = (long)ic.size();
+				intrs                    = nI ? &ic[0] : nullptr;
 				// In parallel on large scenes (a serial engine's pass over every interaction, run at
 				// each collider run): each thread sums its interactions into its own rows, added up in
 				// thread order afterwards (one thread: the serial sums, bit for bit); the bodies' Sides
 				// are all computed first, so that the threads only read them. A list of the skipped
 				// pairs (unreachablePairs) is made serially, in order.
 				int nThreads = 1;
-	#ifdef YADE_OPENMP
+#ifdef YADE_OPENMP
 				if (!skippedOut && nI >= flexa::tuning::kStepperParallelMin) nThreads = omp_get_max_threads();
-	#endif
+#endif
 				std::vector<std::vector<Real>> moreRows(2 * (nThreads - 1), std::vector<Real>(sb.size(), 0));
 				if (canSkip) computeSides(nThreads);
 				long skipped = 0;
-	#ifdef YADE_OPENMP
-	#pragma omp parallel num_threads(nThreads) reduction(+ : skipped)
-	#endif
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(nThreads) reduction(+ : skipped)
+#endif
 				{
-	#ifdef YADE_OPENMP
+#ifdef YADE_OPENMP
 					const int thread = omp_get_thread_num();
-	#else
+#else
 					const int thread = 0;
-	#endif
+#endif
 					Real* const myRow = thread == 0 ? row.data() : moreRows[2 * (thread - 1)].data();
 					Real* const myRot = thread == 0 ? rowRot.data() : moreRows[2 * (thread - 1) + 1].data();
-	#ifdef YADE_OPENMP
-	#pragma omp for schedule(static)
-	#endif
+#ifdef YADE_OPENMP
+#pragma omp for schedule(static)
+#endif
 					for (long li = 0; li < nI; ++li) {
 						if (prefetch) fetchAhead(li);
 						const Interaction& I = *intrs[li];
-						if (I.isReal()) realContactRows(I, myRow, myRot);
+						if (I.isReal())
+							realContactRows(I, myRow, myRot);
 						else
 							skipped += potentialPairRows(I, myRow, myRot);
 					}
@@ -212,9 +214,9 @@ namespace flexa {
 			std::vector<Real>                                     row, rowRot;
 			std::vector<Side>                                     sides;
 			// the contact law, for rolling resistance between spheres (a rotational spring kr)
-			const Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
-			long                                                 nI  = 0;
-			const shared_ptr<Interaction>*                       intrs = nullptr;
+			const Law2_FlexContactGeom_FrictPhys_CundallStrack* law   = nullptr;
+			long                                                nI    = 0;
+			const shared_ptr<Interaction>*                      intrs = nullptr;
 
 			void findLaw()
 			{
@@ -239,7 +241,8 @@ namespace flexa {
 				if (li + kAheadStepperTargets < nI) {
 					const Interaction* J = intrs[li + kAheadStepperTargets].get();
 					if (J->geom) flexa::prefetch(J->geom.get(), sizeof(FlexContactGeom));
-					if (J->phys) flexa::prefetch(J->phys.get(), sizeof(FrictPhys));
+					if (J->phys)
+						flexa::prefetch(J->phys.get(), sizeof(FrictPhys));
 					else { // a potential pair: what is read of its two bodies (tables in id order)
 						for (Body::id_t id : { J->getId1(), J->getId2() })
 							if (id >= 0 && id < nb) {
@@ -255,9 +258,9 @@ namespace flexa {
 			{
 				sides.assign(sb.size(), Side());
 				const shared_ptr<Body>* body = scene->bodies->body.data();
-	#ifdef YADE_OPENMP
-	#pragma omp parallel for schedule(static) num_threads(nThreads)
-	#endif
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(nThreads)
+#endif
 				for (long id = 0; id < (long)nb; ++id) {
 					flexa::prefetchBodiesAhead(body, (long)nb, id, [](const Body& c) {
 						flexa::prefetch(c.bound.get(), sizeof(Aabb));
@@ -375,9 +378,9 @@ namespace flexa {
 								addRot(myRot, I.getId2(), kr, 1, 1);
 							}
 						}
-				const Real                 k = std::max(ph->kn, ph->ks);
+				const Real                k = std::max(ph->kn, ph->ks);
 				flexa::ContactSide::Entry e[6];
-				int                        ne = 0;
+				int                       ne = 0;
 				if (const FlexContactGeom* g = fg) {
 					// a contact that is not carrying force (it separated this step, or another contact
 					// of its cluster owns the force) can carry it again at the next step, before the

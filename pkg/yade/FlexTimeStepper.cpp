@@ -40,7 +40,7 @@ Real FlexTimeStepper::omega2Bonds() const
 		Real                 m, I, w2;
 		Body::id_t           id;
 	};
-	std::vector<Share> shares;
+	std::vector<Share>      shares;
 	const shared_ptr<Body>* body = bodies.body.data();
 	const long              nb   = (long)bodies.body.size();
 	for (long id = 0; id < nb; ++id) {
@@ -49,7 +49,8 @@ Real FlexTimeStepper::omega2Bonds() const
 		const shared_ptr<Body>& b = body[id];
 		if (!b || !b->shape) continue;
 		const flexa::Element e = flexa::elementOf(b->shape.get());
-		if (e.cyl && e.cyl->attached) shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, b->id });
+		if (e.cyl && e.cyl->attached)
+			shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, b->id });
 		else if (e.fac && e.fac->attached) {
 			// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
 			// of its tangent stiffness at the strains FlexElementEngine computed this step
@@ -69,7 +70,7 @@ Real FlexTimeStepper::omega2Bonds() const
 		bool moves = false; // an element whose nodes are all clamped has no mode of its own
 		for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
 			const shared_ptr<Body>& nb = bodies[sh.e.nodes[k]];
-			moves = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
+			moves                      = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
 		}
 		if (!moves) continue;
 		Real scale = 1;
@@ -83,13 +84,12 @@ Real FlexTimeStepper::omega2Bonds() const
 			if (I > 0) scale = std::max(scale, sumI[nid] / I);
 		}
 		if (sh.w2 * scale > w2) {
-			w2                = sh.w2 * scale;
+			w2               = sh.w2 * scale;
 			stiffestBondBody = sh.id;
 		}
 	}
 	return w2;
 }
-
 
 Real FlexTimeStepper::omega2Contacts() const { return omega2ContactsImpl(nullptr, false); }
 
@@ -102,7 +102,6 @@ boost::python::list FlexTimeStepper::unreachablePairs() const
 		l.append(boost::python::make_tuple(pr.first, pr.second));
 	return l;
 }
-
 
 Real FlexTimeStepper::omega2ContactsImpl(std::vector<std::pair<Body::id_t, Body::id_t>>* skippedOut, bool mark) const
 {
@@ -138,15 +137,15 @@ void FlexTimeStepper::action()
 	// the interaction count cost 11% of a granular impact's step: contacts end at almost every
 	// step.) Without an InsertionSortCollider: at every change of the count, as before.
 	const long   colliderRuns = flexa::insertionSortColliderRuns(scene);
-	const size_t nIntr   = scene->interactions->size();
-	const bool   changed = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
-	lastInteractionCount = nIntr;
-	lastColliderRuns     = colliderRuns;
+	const size_t nIntr        = scene->interactions->size();
+	const bool   changed      = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
+	lastInteractionCount      = nIntr;
+	lastColliderRuns          = colliderRuns;
 	if (!markUnreachable && flexa::unreachableMarks().scene == scene) flexa::unreachableMarks().scene = nullptr; // switched off: retire the marks
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
-	dtCritical           = criticalImpl(markUnreachable);
-	stiffestBody         = stiffestCache;
-	skippedPairs         = skippedCache;
+	dtCritical   = criticalImpl(markUnreachable);
+	stiffestBody = stiffestCache;
+	skippedPairs = skippedCache;
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;
 }
 

@@ -13,7 +13,10 @@ namespace flexa {
 	/// Axial response of wire element c at axial strain `strain`; updates c.maxStrain and
 	/// c.plasticStrain. The material's curve is read, never written.
 	/// The elastic modulus of m's wire curve (stress[0] / strain[0]) [Pa], for wireAxial.
-	inline Real wireModulus(const FlexMat& m) { return flex::WireCurve { m.wireStrain.data(), m.wireStress.data(), (int)m.wireStrain.size() }.elasticModulus(); }
+	inline Real wireModulus(const FlexMat& m)
+	{
+		return flex::WireCurve { m.wireStrain.data(), m.wireStress.data(), (int)m.wireStrain.size() }.elasticModulus();
+	}
 	/// Ew: wireModulus(m) if the caller has it (the same value, one division less per link and
 	/// step), else 0.
 	inline flex::AxialResult wireAxial(const FlexMat& m, FlexCylinder& c, Real strain, Real Ew = 0)

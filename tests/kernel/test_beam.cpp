@@ -36,10 +36,7 @@ Vec12 stack(const BeamForces& f)
 
 // element along x from the origin, identity orientations, displaced by the 12 DOF u
 // (u_i, theta_i, u_j, theta_j); rotations as rotation vectors applied in the global frame
-Config displaced(double L, const Vec12& u)
-{
-	return { u.segment<3>(0), Vec3(L, 0, 0) + u.segment<3>(6), rotvec(u.segment<3>(3)), rotvec(u.segment<3>(9)) };
-}
+Config displaced(double L, const Vec12& u) { return { u.segment<3>(0), Vec3(L, 0, 0) + u.segment<3>(6), rotvec(u.segment<3>(3)), rotvec(u.segment<3>(9)) }; }
 
 // a random, moderately deformed configuration of a random reference state
 void randomDeformed(test::Rng& rng, Config& ref, Config& cur)
@@ -68,14 +65,14 @@ TEST(Beam, RigidTranslationAndRotationGiveNoForce)
 	const double      Fscale = s.EA + s.EI, Mscale = s.EI + s.GJ, Escale = s.EA + s.EI + s.GJ; // L ~ 1
 	for (int k = 0; k < 50; ++k) {
 		Config ref;
-		ref.xi               = rng.vec(10.0);
-		ref.xj               = ref.xi + rng.uniform(0.5, 2.0) * rng.unit();
-		ref.oi               = rng.quat();
-		ref.oj               = rng.quat();
-		const BeamRest rest  = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
+		ref.xi              = rng.vec(10.0);
+		ref.xj              = ref.xi + rng.uniform(0.5, 2.0) * rng.unit();
+		ref.oi              = rng.quat();
+		ref.oj              = rng.quat();
+		const BeamRest rest = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
 		EXPECT_NEAR(rest.L0, (ref.xj - ref.xi).norm(), 1e-15 * 20);
-		const Quat     Q     = k == 0 ? Quat(Eigen::AngleAxisd(1.3, Vec3(1, -2, 0.5).normalized())) : rng.quat();
-		const Vec3     t     = rng.vec(5.0);
+		const Quat Q = k == 0 ? Quat(Eigen::AngleAxisd(1.3, Vec3(1, -2, 0.5).normalized())) : rng.quat();
+		const Vec3 t = rng.vec(5.0);
 		for (const Config& c : { ref, moved(ref, Quat::Identity(), t), moved(ref, Q, Vec3::Zero()), moved(ref, Q, t) }) {
 			const BeamKinematics kin = beamKinematics(c.xi, c.xj, c.oi, c.oj, rest);
 			EXPECT_NEAR(kin.thetaI.norm(), 0.0, 1e-9);
@@ -129,8 +126,8 @@ TEST(Beam, ForceAndMomentBalance)
 		EXPECT_LE((f.Fi + f.Fj).norm(), 1e-15 * Fmag);
 		// about the origin and about an arbitrary point (the latter follows from sum F = 0)
 		for (const Vec3& o : { Vec3(Vec3::Zero()), rng.vec(10.0) }) {
-			const Vec3 Mo    = (cur.xi - o).cross(f.Fi) + (cur.xj - o).cross(f.Fj) + f.Mi + f.Mj;
-			const double sc  = Fmag * ((cur.xi - o).norm() + (cur.xj - o).norm()) + Mmag;
+			const Vec3   Mo = (cur.xi - o).cross(f.Fi) + (cur.xj - o).cross(f.Fj) + f.Mi + f.Mj;
+			const double sc = Fmag * ((cur.xi - o).norm() + (cur.xj - o).norm()) + Mmag;
 			EXPECT_LE(Mo.norm(), 1e-14 * sc);
 		}
 		// bending rotations lie perpendicular to the chord, and so does the shear: the chord part
@@ -148,16 +145,16 @@ TEST(Beam, ForceAndMomentBalance)
 
 TEST(Beam, SmallDisplacementsMatchLinearStiffness)
 {
-	const BeamSection s = testSection();
-	const double      L = 1.3;
+	const BeamSection s    = testSection();
+	const double      L    = 1.3;
 	const BeamRest    rest = makeBeamRest(Vec3::Zero(), Vec3(L, 0, 0), Quat::Identity(), Quat::Identity());
 	EXPECT_EQ(rest.L0, L);
 	const Mat12  K = beamStiffnessLocal(s, L);
 	const double h = 1e-7 * L;
 	// column by column: each DOF alone (translations h, rotations h/L)
 	for (int dof = 0; dof < 12; ++dof) {
-		Vec12 u = Vec12::Zero();
-		u[dof]  = (dof % 6) < 3 ? h : h / L;
+		Vec12 u       = Vec12::Zero();
+		u[dof]        = (dof % 6) < 3 ? h : h / L;
 		const Vec12 f = stack(forcesOf(displaced(L, u), rest, s));
 		EXPECT_TRUE(close(f, Vec12(-K * u), 1e-5)) << "DOF " << dof;
 	}
@@ -165,7 +162,8 @@ TEST(Beam, SmallDisplacementsMatchLinearStiffness)
 	test::Rng rng(14);
 	for (int k = 0; k < 50; ++k) {
 		Vec12 u;
-		for (int i = 0; i < 12; ++i) u[i] = rng.uniform() * ((i % 6) < 3 ? h : h / L);
+		for (int i = 0; i < 12; ++i)
+			u[i] = rng.uniform() * ((i % 6) < 3 ? h : h / L);
 		const Vec12 f = stack(forcesOf(displaced(L, u), rest, s));
 		EXPECT_TRUE(close(f, Vec12(-K * u), 1e-5));
 	}
@@ -173,11 +171,11 @@ TEST(Beam, SmallDisplacementsMatchLinearStiffness)
 
 TEST(Beam, CantileverSingleElement)
 {
-	const BeamSection s{ 50.0, 3.0, 2.0 };
-	const double      L = 1.7, P = 0.8, T = 0.3;
-	const Mat12       K  = beamStiffnessLocal(s, L);
+	const BeamSection                 s { 50.0, 3.0, 2.0 };
+	const double                      L = 1.7, P = 0.8, T = 0.3;
+	const Mat12                       K   = beamStiffnessLocal(s, L);
 	const Eigen::Matrix<double, 6, 6> Kjj = K.block<6, 6>(6, 6); // node i clamped
-	Eigen::Matrix<double, 6, 1> load;
+	Eigen::Matrix<double, 6, 1>       load;
 	// transverse y load
 	load << 0, P, 0, 0, 0, 0;
 	Eigen::Matrix<double, 6, 1> u = Kjj.fullPivLu().solve(load);
@@ -206,12 +204,12 @@ TEST(Beam, CantileverSingleElement)
 	// the co-rotational element in that displaced shape holds the load (small P)
 	const double p = 1e-7 * s.EI / (L * L); // tip deflection ~ 1e-7 L
 	load << 0, p, -0.5 * p, 0, 0, 0;
-	u = Kjj.fullPivLu().solve(load);
-	Vec12 U = Vec12::Zero();
-	U.segment<6>(6) = u;
+	u                     = Kjj.fullPivLu().solve(load);
+	Vec12 U               = Vec12::Zero();
+	U.segment<6>(6)       = u;
 	const BeamRest   rest = makeBeamRest(Vec3::Zero(), Vec3(L, 0, 0), Quat::Identity(), Quat::Identity());
 	const BeamForces f    = forcesOf(displaced(L, U), rest, s);
-	EXPECT_TRUE(close(f.Fj, Vec3(0, -p, 0.5 * p), 1e-5));  // internal force balances the applied load
+	EXPECT_TRUE(close(f.Fj, Vec3(0, -p, 0.5 * p), 1e-5)); // internal force balances the applied load
 	EXPECT_LE(f.Mj.norm(), 1e-5 * p * L);                 // no end moment
 	EXPECT_TRUE(close(f.Fi, Vec3(0, p, -0.5 * p), 1e-5)); // reaction at the clamp
 	// clamp moment from the element's moment balance Mi + (L e_x) x Fj = 0: Mi = L e_x x P_applied
@@ -225,10 +223,12 @@ TEST(Beam, StiffnessSymmetricWithSixRigidModes)
 	const Mat12       K = beamStiffnessLocal(s, L);
 	EXPECT_EQ(K, Mat12(K.transpose()));
 	Eigen::SelfAdjointEigenSolver<Mat12> es(K);
-	const auto&  ev   = es.eigenvalues(); // ascending
-	const double lmax = ev.maxCoeff();
-	for (int i = 0; i < 6; ++i) EXPECT_LE(std::abs(ev[i]), 1e-13 * lmax) << i;
-	for (int i = 6; i < 12; ++i) EXPECT_GT(ev[i], 1e-3 * lmax) << i;
+	const auto&                          ev   = es.eigenvalues(); // ascending
+	const double                         lmax = ev.maxCoeff();
+	for (int i = 0; i < 6; ++i)
+		EXPECT_LE(std::abs(ev[i]), 1e-13 * lmax) << i;
+	for (int i = 6; i < 12; ++i)
+		EXPECT_GT(ev[i], 1e-3 * lmax) << i;
 	// the axial and the twist modes are eigenvalues 2 EA/L and 2 GJ/L
 	auto has = [&](double v) {
 		for (int i = 0; i < 12; ++i)
@@ -241,7 +241,7 @@ TEST(Beam, StiffnessSymmetricWithSixRigidModes)
 	for (int a = 0; a < 3; ++a) {
 		Vec12 tr = Vec12::Zero(), rot = Vec12::Zero();
 		tr[a] = tr[6 + a] = 1;
-		const Vec3 w = Vec3::Unit(a);
+		const Vec3 w      = Vec3::Unit(a);
 		rot.segment<3>(3) = w;
 		rot.segment<3>(9) = w;
 		rot.segment<3>(6) = w.cross(Vec3(L, 0, 0));
@@ -252,9 +252,9 @@ TEST(Beam, StiffnessSymmetricWithSixRigidModes)
 
 TEST(Beam, PureBendingAndTwistEnergyIsQuadraticForm)
 {
-	const BeamSection s = testSection();
-	const double      L = 1.3;
-	const Mat12       K = beamStiffnessLocal(s, L);
+	const BeamSection s    = testSection();
+	const double      L    = 1.3;
+	const Mat12       K    = beamStiffnessLocal(s, L);
 	const BeamRest    rest = makeBeamRest(Vec3::Zero(), Vec3(L, 0, 0), Quat::Identity(), Quat::Identity());
 	test::Rng         rng(15);
 	for (int k = 0; k < 50; ++k) {
@@ -293,9 +293,9 @@ TEST(Beam, ForcesAreTheGradientOfTheEnergyAtLargeAngles)
 		Config ref, cur;
 		randomDeformed(rng, ref, cur);
 		// large end rotations: up to 1.2 or 2.5 rad about random axes (bending and twist)
-		const double big = k < 100 ? 1.2 : 2.5;
-		cur.oi           = rotvec(rng.vec(big)) * cur.oi;
-		cur.oj           = rotvec(rng.vec(big)) * cur.oj;
+		const double big      = k < 100 ? 1.2 : 2.5;
+		cur.oi                = rotvec(rng.vec(big)) * cur.oi;
+		cur.oj                = rotvec(rng.vec(big)) * cur.oj;
 		const BeamRest   rest = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
 		const BeamForces f    = forcesOf(cur, rest, s);
 		auto             U    = [&](const Config& c) { return forcesOf(c, rest, s).elasticEnergy; };
@@ -307,10 +307,18 @@ TEST(Beam, ForcesAreTheGradientOfTheEnergyAtLargeAngles)
 			Vec3      e = Vec3::Zero();
 			e[a]        = h;
 			switch (d / 3) {
-				case 0: p.xi += e, m.xi -= e; break;
-				case 1: p.oi = rotvec(e) * cur.oi, m.oi = rotvec(-e) * cur.oi; break;
-				case 2: p.xj += e, m.xj -= e; break;
-				default: p.oj = rotvec(e) * cur.oj, m.oj = rotvec(-e) * cur.oj; break;
+			case 0:
+				p.xi += e, m.xi -= e;
+				break;
+			case 1:
+				p.oi = rotvec(e) * cur.oi, m.oi = rotvec(-e) * cur.oi;
+				break;
+			case 2:
+				p.xj += e, m.xj -= e;
+				break;
+			default:
+				p.oj = rotvec(e) * cur.oj, m.oj = rotvec(-e) * cur.oj;
+				break;
 			}
 			grad[d] = -(U(p) - U(m)) / (2 * h);
 		}
@@ -336,13 +344,13 @@ TEST(Bar, EqualsTheBeamWithoutBendingStiffnessBitForBit)
 	for (int n = 0; n < 2000; ++n) {
 		Config ref, cur;
 		randomDeformed(rng, ref, cur);
-		const BeamRest rest = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
-		AxialState     stBeam, stBar;
-		const double   L  = (cur.xj - cur.xi).norm();
-		const double   st = (L - rest.L0) / rest.L0;
-		const BeamForces b = beamForces(beamKinematics(cur.xi, cur.xj, cur.oi, cur.oj, rest), rest, s, law, stBeam);
-		const Chord      c = chord(cur.xi, cur.xj);
-		const BeamForces a = barForces(c, axialForce((c.L - rest.L0) / rest.L0, s.EA, rest.L0, law, stBar));
+		const BeamRest   rest = makeBeamRest(ref.xi, ref.xj, ref.oi, ref.oj);
+		AxialState       stBeam, stBar;
+		const double     L  = (cur.xj - cur.xi).norm();
+		const double     st = (L - rest.L0) / rest.L0;
+		const BeamForces b  = beamForces(beamKinematics(cur.xi, cur.xj, cur.oi, cur.oj, rest), rest, s, law, stBeam);
+		const Chord      c  = chord(cur.xi, cur.xj);
+		const BeamForces a  = barForces(c, axialForce((c.L - rest.L0) / rest.L0, s.EA, rest.L0, law, stBar));
 		ASSERT_EQ(c.L, L);
 		for (int k = 0; k < 3; ++k) { // == also holds for +0 against -0
 			ASSERT_EQ(a.Fi[k], b.Fi[k]);
@@ -371,8 +379,8 @@ TEST(Bar, ForcesAreAxialAndBalanced)
 	const Chord c = chord(xi, xj);
 	EXPECT_DOUBLE_EQ(c.L, std::sqrt(2.0));
 	AxialResult ax;
-	ax.N             = 7.0;
-	ax.elasticEnergy = 0.25;
+	ax.N               = 7.0;
+	ax.elasticEnergy   = 0.25;
 	const BeamForces f = barForces(c, ax);
 	EXPECT_TRUE(close(f.Fi, Vec3(7.0 * (xj - xi) / std::sqrt(2.0)), 1e-15)); // tension pulls i towards j
 	EXPECT_TRUE(close(f.Fi + f.Fj, Vec3::Zero(), 0, 0));
@@ -387,7 +395,7 @@ TEST(AxialLaw, Elastic)
 	const double EA = 1000, L0 = 2;
 	AxialState   st;
 	for (double eps : { 1e-3, -2e-3, 0.0 }) {
-		const AxialResult r = axialForce(eps, EA, L0, AxialLaw{}, st);
+		const AxialResult r = axialForce(eps, EA, L0, AxialLaw {}, st);
 		EXPECT_DOUBLE_EQ(r.N, EA * eps);
 		EXPECT_TRUE(close(r.elasticEnergy, 0.5 * EA * eps * eps * L0, 1e-14));
 		EXPECT_EQ(r.plasticWork, 0.0);
@@ -401,7 +409,7 @@ TEST(AxialLaw, TensionOnly)
 {
 	AxialLaw law;
 	law.tensionOnly = true;
-	AxialState st;
+	AxialState        st;
 	const AxialResult c = axialForce(-1e-3, 1000, 2, law, st);
 	EXPECT_EQ(c.N, 0.0);
 	EXPECT_EQ(c.elasticEnergy, 0.0);
@@ -451,7 +459,7 @@ TEST(AxialLaw, YieldHardeningUnloadingAndReverseYield)
 	}
 	// unloading follows the initial stiffness, leaves the permanent strain ep
 	const double Nmax = r.N;
-	r = axialForce(eps_max - 0.001, EA, L0, law, st);
+	r                 = axialForce(eps_max - 0.001, EA, L0, law, st);
 	EXPECT_TRUE(close(r.N, Nmax - EA * 0.001, 1e-13));
 	EXPECT_EQ(r.plasticWork, 0.0);
 	r = axialForce(ep, EA, L0, law, st);
@@ -464,10 +472,10 @@ TEST(AxialLaw, YieldHardeningUnloadingAndReverseYield)
 	EXPECT_NEAR(r.plasticWork, 0.0, 1e-15); // at most round-off on the yield surface
 	// compression: isotropic hardening, reverse yield at -(Ny + H alpha)
 	const double alpha = st.hardeningVar;
-	r = axialForce(ep - (Ny + H * alpha) / EA + 1e-6, EA, L0, law, st);
+	r                  = axialForce(ep - (Ny + H * alpha) / EA + 1e-6, EA, L0, law, st);
 	EXPECT_EQ(r.plasticWork, 0.0);
 	const double eps_c = -0.01;
-	r = axialForce(eps_c, EA, L0, law, st);
+	r                  = axialForce(eps_c, EA, L0, law, st);
 	// N = EA (eps_c - ep') = -(Ny + H (alpha + ep - ep'))
 	const double ep2 = (EA * eps_c + Ny + H * (alpha + ep)) / (EA + H);
 	EXPECT_TRUE(close(st.plasticStrain, ep2, 1e-12));
@@ -515,11 +523,11 @@ TEST(AxialLaw, Rupture)
 	}
 	{ // beamForces reports the rupture of its axial law
 		AxialLaw law;
-		law.ruptureForce = 5;
-		const BeamRest rest = makeBeamRest(Vec3::Zero(), Vec3(2, 0, 0), Quat::Identity(), Quat::Identity());
-		AxialState     st;
-		const BeamForces f = beamForces(beamKinematics(Vec3::Zero(), Vec3(2.02, 0, 0), Quat::Identity(), Quat::Identity(), rest), rest,
-		                                BeamSection{ EA, 1, 1 }, law, st);
+		law.ruptureForce      = 5;
+		const BeamRest   rest = makeBeamRest(Vec3::Zero(), Vec3(2, 0, 0), Quat::Identity(), Quat::Identity());
+		AxialState       st;
+		const BeamForces f = beamForces(
+		        beamKinematics(Vec3::Zero(), Vec3(2.02, 0, 0), Quat::Identity(), Quat::Identity(), rest), rest, BeamSection { EA, 1, 1 }, law, st);
 		EXPECT_TRUE(f.rupture);
 		EXPECT_TRUE(close(f.N, 10.0, 1e-13));
 		EXPECT_TRUE(close(f.Fj, Vec3(-10, 0, 0), 1e-13)); // tension pulls j back towards i
@@ -531,8 +539,8 @@ TEST(AxialLaw, Rupture)
 
 TEST(BeamSection, Circular)
 {
-	const double E = 2e11, G = 8e10, r = 0.005;
-	const double A = M_PI * r * r, I = M_PI * r * r * r * r / 4;
+	const double      E = 2e11, G = 8e10, r = 0.005;
+	const double      A = M_PI * r * r, I = M_PI * r * r * r * r / 4;
 	const BeamSection s = BeamSection::circular(E, G, r);
 	EXPECT_TRUE(close(s.EA, E * A, 1e-15));
 	EXPECT_TRUE(close(s.EI, E * I, 1e-15));
@@ -546,7 +554,7 @@ TEST(BeamSection, Circular)
 
 TEST(CylinderNodeShare, Values)
 {
-	const double rho = 7800, r = 0.01, L = 0.5;
+	const double    rho = 7800, r = 0.01, L = 0.5;
 	const NodeShare sh = cylinderNodeShare(rho, r, L);
 	const double    m  = rho * M_PI * r * r * L;
 	EXPECT_TRUE(close(2 * sh.mass, m, 1e-15));

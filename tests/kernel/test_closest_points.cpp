@@ -21,12 +21,24 @@ void expectOptimal(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b
 	ASSERT_LE(r.s, 1.0);
 	ASSERT_GE(r.t, 0.0);
 	ASSERT_LE(r.t, 1.0);
-	if (r.s > 0 && r.s < 1) { EXPECT_NEAR(gs, 0.0, tol); }
-	if (r.s == 0) { EXPECT_GE(gs, -tol); }
-	if (r.s == 1) { EXPECT_LE(gs, tol); }
-	if (r.t > 0 && r.t < 1) { EXPECT_NEAR(gt, 0.0, tol); }
-	if (r.t == 0) { EXPECT_GE(gt, -tol); }
-	if (r.t == 1) { EXPECT_LE(gt, tol); }
+	if (r.s > 0 && r.s < 1) {
+		EXPECT_NEAR(gs, 0.0, tol);
+	}
+	if (r.s == 0) {
+		EXPECT_GE(gs, -tol);
+	}
+	if (r.s == 1) {
+		EXPECT_LE(gs, tol);
+	}
+	if (r.t > 0 && r.t < 1) {
+		EXPECT_NEAR(gt, 0.0, tol);
+	}
+	if (r.t == 0) {
+		EXPECT_GE(gt, -tol);
+	}
+	if (r.t == 1) {
+		EXPECT_LE(gt, tol);
+	}
 	EXPECT_TRUE(close(r.p1, pointAt(a0, a1, r.s), 1e-15, 1e-15));
 	EXPECT_TRUE(close(r.p2, pointAt(b0, b1, r.t), 1e-15, 1e-15));
 }
@@ -34,8 +46,8 @@ void expectOptimal(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b
 // Brute-force minimum distance: fine grid, then a finer grid around the best node.
 double bruteForceDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1)
 {
-	auto   d    = [&](double s, double t) { return ((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm(); };
-	double best = std::numeric_limits<double>::infinity(), bs = 0, bt = 0;
+	auto      d    = [&](double s, double t) { return ((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm(); };
+	double    best = std::numeric_limits<double>::infinity(), bs = 0, bt = 0;
 	const int n = 400;
 	for (int i = 0; i <= n; ++i)
 		for (int j = 0; j <= n; ++j) {
@@ -69,11 +81,11 @@ TEST(PointSegment, InteriorGenericIsOrthogonalProjection)
 	for (int k = 0; k < 200; ++k) {
 		const Vec3 a = rng.vec(), b = rng.vec(), d = b - a;
 		// point = foot + normal offset, foot at a known parameter
-		const double u    = rng.uniform(0.05, 0.95);
-		Vec3         off  = rng.vec();
-		off              -= off.dot(d) / d.squaredNorm() * d;
-		const Vec3 p      = a + u * d + off;
-		const auto r      = closestPointOnSegment(p, a, b);
+		const double u   = rng.uniform(0.05, 0.95);
+		Vec3         off = rng.vec();
+		off -= off.dot(d) / d.squaredNorm() * d;
+		const Vec3 p = a + u * d + off;
+		const auto r = closestPointOnSegment(p, a, b);
 		EXPECT_NEAR(r.u, u, 1e-12 / d.norm());
 		EXPECT_TRUE(close(r.point, Vec3(a + u * d), 1e-12, 1e-13));
 		EXPECT_NEAR((p - r.point).dot(d), 0.0, 1e-13);
@@ -152,7 +164,7 @@ TEST(SegmentSegment, SkewInteriorGenericLines)
 		if (d1.cross(d2).norm() < 0.05) continue;
 		const double s = rng.uniform(0.1, 0.9), t = rng.uniform(0.1, 0.9), L1 = rng.uniform(0.5, 3), L2 = rng.uniform(0.5, 3);
 		const Vec3   a0 = c1 - s * L1 * d1, a1 = a0 + L1 * d1, b0 = c2 - t * L2 * d2, b1 = b0 + L2 * d2;
-		const auto   r  = closestPointsSegments(a0, a1, b0, b1);
+		const auto   r = closestPointsSegments(a0, a1, b0, b1);
 		EXPECT_FALSE(r.parallel);
 		EXPECT_NEAR(r.s, s, 1e-12);
 		EXPECT_NEAR(r.t, t, 1e-12);
@@ -166,11 +178,11 @@ TEST(SegmentSegment, RandomAgainstBruteForceAndOptimality)
 {
 	test::Rng rng(3);
 	for (int k = 0; k < 12; ++k) {
-		const Vec3 a0 = rng.vec(), a1 = rng.vec(), b0 = rng.vec(), b1 = rng.vec();
-		const auto r  = closestPointsSegments(a0, a1, b0, b1);
+		const Vec3   a0 = rng.vec(), a1 = rng.vec(), b0 = rng.vec(), b1 = rng.vec();
+		const auto   r  = closestPointsSegments(a0, a1, b0, b1);
 		const double bf = bruteForceDistance(a0, a1, b0, b1);
-		EXPECT_LE(dist(r), bf + 1e-14);      // never worse than any sampled pair
-		EXPECT_NEAR(dist(r), bf, 1e-5);     // and the refined grid gets there
+		EXPECT_LE(dist(r), bf + 1e-14); // never worse than any sampled pair
+		EXPECT_NEAR(dist(r), bf, 1e-5); // and the refined grid gets there
 		expectOptimal(a0, a1, b0, b1, r, 1e-12);
 	}
 	// many more cases with the exact optimality conditions only (convex: KKT <=> minimum)
@@ -211,7 +223,7 @@ TEST(SegmentSegment, OneClamped)
 	const Vec3 d1 = (a1 - a0).normalized(), n = d1.cross(Vec3(0, 0, 1)).normalized(), m = d1.cross(n);
 	const Vec3 c2 = a1 + 0.4 * d1 + 0.3 * m; // foot of a1 on line 2 is c2 - 0.4 d1 ... line 2 along n
 	const Vec3 b0 = c2 - 0.6 * n, b1 = c2 + 1.4 * n;
-	const auto r  = closestPointsSegments(a0, a1, b0, b1);
+	const auto r = closestPointsSegments(a0, a1, b0, b1);
 	EXPECT_EQ(r.s, 1.0);
 	EXPECT_EQ(r.p1, a1);
 	EXPECT_NEAR(r.t, 0.3, 1e-12);
@@ -247,7 +259,7 @@ TEST(SegmentSegment, ParallelOverlapMiddle)
 	const Vec3 a0(0, 0, 0), a1(4, 0, 0);
 	for (bool reversed : { false, true }) {
 		const Vec3 b0 = reversed ? Vec3(6, 1, 0) : Vec3(1, 1, 0), b1 = reversed ? Vec3(1, 1, 0) : Vec3(6, 1, 0);
-		const auto r  = closestPointsSegments(a0, a1, b0, b1);
+		const auto r = closestPointsSegments(a0, a1, b0, b1);
 		EXPECT_TRUE(r.parallel);
 		// overlap is x in [1, 4]: its middle x = 2.5
 		EXPECT_DOUBLE_EQ(r.s, 2.5 / 4);
@@ -267,7 +279,7 @@ TEST(SegmentSegment, ParallelSlidingIsContinuous)
 	for (int k = 0; k <= 1000; ++k) {
 		const double x0 = -3.5 + 7.0 * k / 1000; // start of segment 2 along d
 		const Vec3   b0 = o + x0 * d + h * n, b1 = o + (x0 + L2) * d + h * n;
-		const auto   r  = closestPointsSegments(o, o + L1 * d, b0, b1);
+		const auto   r = closestPointsSegments(o, o + L1 * d, b0, b1);
 		EXPECT_TRUE(r.parallel);
 		const double lo = std::max(0.0, x0), hi = std::min(L1, x0 + L2);
 		if (lo <= hi) { // overlap: middle of it, at distance h
@@ -278,7 +290,9 @@ TEST(SegmentSegment, ParallelSlidingIsContinuous)
 			EXPECT_EQ(r.t, x0 > 0 ? 0.0 : 1.0);
 			EXPECT_NEAR(dist(r), std::hypot(x0 > 0 ? x0 - L1 : -(x0 + L2), h), 1e-12);
 		}
-		if (!first) { EXPECT_LE((r.p1 - prev).norm(), 7.0 / 1000 + 1e-12); } // moves at most as far as segment 2
+		if (!first) {
+			EXPECT_LE((r.p1 - prev).norm(), 7.0 / 1000 + 1e-12);
+		} // moves at most as far as segment 2
 		prev  = r.p1;
 		first = false;
 	}
@@ -377,8 +391,12 @@ void expectUnitPerp(const Vec3& n, const Vec3& ax1, const Vec3& ax2)
 {
 	ASSERT_TRUE(n.allFinite());
 	EXPECT_NEAR(n.norm(), 1.0, 1e-14);
-	if (ax1.norm() > 0) { EXPECT_NEAR(n.dot(ax1.normalized()), 0.0, 1e-12); }
-	if (ax2.norm() > 0) { EXPECT_NEAR(n.dot(ax2.normalized()), 0.0, 1e-12); }
+	if (ax1.norm() > 0) {
+		EXPECT_NEAR(n.dot(ax1.normalized()), 0.0, 1e-12);
+	}
+	if (ax2.norm() > 0) {
+		EXPECT_NEAR(n.dot(ax2.normalized()), 0.0, 1e-12);
+	}
 }
 } // namespace
 

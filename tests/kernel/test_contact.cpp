@@ -17,7 +17,7 @@ TEST(SegmentPointVelocity, ExactForRigidMotion)
 			const Vec3   p  = xA + u * (xB - xA);
 			const Vec3   c  = p + rng.vec(len); // any material point carried by the element
 			const Vec3   v0 = rng.vec(), W = rng.vec();
-			const Vec3   v  = segmentPointVelocity(u, p, c, v0 + W.cross(xA), W, v0 + W.cross(xB), W);
+			const Vec3   v     = segmentPointVelocity(u, p, c, v0 + W.cross(xA), W, v0 + W.cross(xB), W);
 			const Vec3   exact = v0 + W.cross(c);
 			EXPECT_TRUE(close(v, exact, 0, 1e-14 * (v0.norm() + W.norm() * (c.norm() + xA.norm() + xB.norm()))));
 		}
@@ -41,9 +41,9 @@ TEST(DistributeToSegment, BalanceAndPower)
 	for (int k = 0; k < 500; ++k) {
 		const double len = std::pow(10.0, rng.uniform(-3, 3));
 		const Vec3   xA = rng.vec(len), xB = xA + len * rng.unit();
-		const double u  = k == 0 ? 0.0 : (k == 1 ? 1.0 : rng.uniform(0, 1));
-		const Vec3   p  = xA + u * (xB - xA);
-		const Vec3   c  = p + rng.vec(len), F = rng.vec(100.0);
+		const double u = k == 0 ? 0.0 : (k == 1 ? 1.0 : rng.uniform(0, 1));
+		const Vec3   p = xA + u * (xB - xA);
+		const Vec3   c = p + rng.vec(len), F = rng.vec(100.0);
 		NodeLoad     A, B;
 		distributeToSegment(u, p, c, F, A, B);
 		const double Fs = F.norm(), Ms = F.norm() * (c.norm() + xA.norm() + xB.norm());
@@ -131,11 +131,11 @@ TEST(FrictionalStep, Slip)
 	const double            overlap = 1e-3, Fn = 100, maxFs = 50;
 	test::Rng               rng(24);
 	for (int k = 0; k < 100; ++k) {
-		Vec3 dus = rng.vec(5e-3);
-		dus.z()  = 0;
-		const Vec3   old   = Vec3(rng.uniform(-30, 30), rng.uniform(-30, 30), 0);
-		const Vec3   trial = old - p.ks * dus;
-		const FrictionalResult r = frictionalStep(p, overlap, n, old, dus);
+		Vec3 dus                     = rng.vec(5e-3);
+		dus.z()                      = 0;
+		const Vec3             old   = Vec3(rng.uniform(-30, 30), rng.uniform(-30, 30), 0);
+		const Vec3             trial = old - p.ks * dus;
+		const FrictionalResult r     = frictionalStep(p, overlap, n, old, dus);
 		if (trial.norm() <= maxFs) {
 			EXPECT_FALSE(r.sliding);
 			EXPECT_TRUE(close(r.shearForce, trial, 1e-14));
@@ -143,8 +143,8 @@ TEST(FrictionalStep, Slip)
 			continue;
 		}
 		EXPECT_TRUE(r.sliding);
-		EXPECT_TRUE(close(r.shearForce.norm(), p.tanPhi * Fn, 1e-14));                    // on the cone
-		EXPECT_TRUE(close(r.shearForce, Vec3(trial.normalized() * maxFs), 1e-14));         // along the trial
+		EXPECT_TRUE(close(r.shearForce.norm(), p.tanPhi * Fn, 1e-14));             // on the cone
+		EXPECT_TRUE(close(r.shearForce, Vec3(trial.normalized() * maxFs), 1e-14)); // along the trial
 		// D = (Fs* - Fs_new).(Fs_old + Fs_new)/(2 ks), the trapezoid work minus the stored change
 		const double D = 0.5 * (trial - r.shearForce).dot(old + r.shearForce) / p.ks;
 		EXPECT_TRUE(close(r.frictionWork, D, 1e-13));
@@ -175,7 +175,7 @@ TEST(FrictionalStep, EnergyBalanceOverLoadingPath)
 	const FrictionalContact p = law();
 	const Vec3              n(0, 0, 1);
 	const double            overlap = 1e-3, Fn = 100;
-	Vec3                    shear   = Vec3::Zero();
+	Vec3                    shear = Vec3::Zero();
 	const Vec3              dus(1e-5, 0.5e-5, 0);
 	double                  work = 0, dissipated = 0, stored = 0;
 	for (int i = 0; i < 1000; ++i) {
@@ -187,7 +187,9 @@ TEST(FrictionalStep, EnergyBalanceOverLoadingPath)
 		work -= 0.5 * (before + shear).dot(dus);
 		dissipated += r.frictionWork;
 		stored = r.elasticEnergy - 0.5 * Fn * Fn / p.kn;
-		if (r.sliding && before.norm() >= p.tanPhi * Fn * (1 - 1e-12)) { EXPECT_TRUE(close(r.frictionWork, shear.norm() * dus.norm(), 1e-9)); }
+		if (r.sliding && before.norm() >= p.tanPhi * Fn * (1 - 1e-12)) {
+			EXPECT_TRUE(close(r.frictionWork, shear.norm() * dus.norm(), 1e-9));
+		}
 	}
 	EXPECT_TRUE(close(shear.norm(), p.tanPhi * Fn, 1e-14));
 	// exact at the step where sliding starts: energy work = stored + dissipated (to the trapezoid

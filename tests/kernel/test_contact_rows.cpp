@@ -28,7 +28,7 @@ double maxOf(const double* r, int n)
 		m = std::max(m, r[a]);
 	return m;
 }
-}
+} // namespace
 
 TEST(ContactRows, TwoEqualMassesAreExact)
 {

@@ -10,10 +10,10 @@ using namespace flex;
 namespace {
 struct Body {
 	Vec3     pos = Vec3::Zero(), vel = Vec3::Zero(), angVel = Vec3::Zero(), inertia = Vec3::Ones();
-	Quat     ori = Quat::Identity();
-	double   mass = 1;
+	Quat     ori     = Quat::Identity();
+	double   mass    = 1;
 	unsigned blocked = 0;
-	bool     damped = true;
+	bool     damped  = true;
 	BodyDofs dofs() { return BodyDofs { pos, vel, angVel, ori, inertia, mass, blocked, damped }; }
 };
 LeapFrogSettings settings(double dt, const Vec3& g, double c, bool dampGravity = true) { return LeapFrogSettings { dt, g, c, DampFactors(c), dampGravity }; }
@@ -22,9 +22,9 @@ LeapFrogSettings settings(double dt, const Vec3& g, double c, bool dampGravity =
 // Free fall, velocity first: v_n = v0 + n g dt, x_n = x0 + n v0 dt + g dt^2 n (n + 1) / 2.
 TEST(LeapFrog, FreeFallFollowsTheDiscreteSolution)
 {
-	Body       b;
-	b.pos                = Vec3(0, 0, 10);
-	b.vel                = Vec3(1, 0, 2);
+	Body b;
+	b.pos = Vec3(0, 0, 10);
+	b.vel = Vec3(1, 0, 2);
 	const Vec3 g(0, 0, -9.81);
 	const auto s = settings(1e-3, g, 0);
 	for (int n = 1; n <= 1000; ++n) {
@@ -43,8 +43,8 @@ TEST(LeapFrog, SpringKeepsTheShadowEnergy)
 	for (double wdt : { 0.1, 1.0, 1.9 }) {
 		const double w = 10, dt = wdt / w;
 		Body         b;
-		b.pos      = Vec3(1, 0, 0);
-		const auto s = settings(dt, Vec3::Zero(), 0);
+		b.pos            = Vec3(1, 0, 0);
+		const auto s     = settings(dt, Vec3::Zero(), 0);
 		double     vPrev = 0; // v_{-1/2} = 0, x_0 = 1: I = w^2 / 2 at every step
 		for (int n = 0; n < 2000; ++n) {
 			const double x = b.pos[0];
@@ -72,8 +72,8 @@ TEST(LeapFrog, DampingScalesEachComponentBySign)
 	EXPECT_DOUBLE_EQ(b.vel[2], 1e-3 * 2 * 0.8);
 	// damping work: c dt sum |v_i| |F_i| over free DOFs, at the velocities before the update
 	Body b2;
-	b2.vel     = Vec3(1, -1, 3);
-	b2.blocked = dofBit(2, false);
+	b2.vel      = Vec3(1, -1, 3);
+	b2.blocked  = dofBit(2, false);
 	BodyDofs d2 = b2.dofs();
 	EXPECT_DOUBLE_EQ(dampingWork(Vec3(2, 2, 2), Vec3::Zero(), d2, s), 0.2 * 1e-3 * (2 + 2));
 	// gravity outside the damping
@@ -88,9 +88,9 @@ TEST(LeapFrog, DampingScalesEachComponentBySign)
 TEST(LeapFrog, BlockedDofsKeepTheirVelocity)
 {
 	Body b;
-	b.vel     = Vec3(0.5, 0, 0);
-	b.angVel  = Vec3(0, 0, 1);
-	b.blocked = kAllDofs;
+	b.vel      = Vec3(0.5, 0, 0);
+	b.angVel   = Vec3(0, 0, 1);
+	b.blocked  = kAllDofs;
 	BodyDofs d = b.dofs();
 	leapFrog(Vec3(100, 100, 100), Vec3(5, 5, 5), d, settings(0.01, Vec3(0, 0, -9.81), 0.3));
 	EXPECT_EQ(b.vel, Vec3(0.5, 0, 0));
@@ -102,7 +102,7 @@ TEST(LeapFrog, BlockedDofsKeepTheirVelocity)
 TEST(LeapFrog, ConstantSpinTurnsByOmegaDtPerStep)
 {
 	Body b;
-	b.angVel   = Vec3(0, 0, 2.0);
+	b.angVel     = Vec3(0, 0, 2.0);
 	const auto s = settings(1e-2, Vec3::Zero(), 0);
 	for (int n = 0; n < 100; ++n) {
 		BodyDofs d = b.dofs();

@@ -30,7 +30,7 @@ Vec3 gradient(Vec3 x[3], int a, const MembraneRest& rest, const MembraneLaw& law
 	}
 	return g;
 }
-}
+} // namespace
 
 TEST(Membrane, RestIsForceFree)
 {
@@ -46,13 +46,13 @@ TEST(Membrane, RestIsForceFree)
 TEST(Membrane, UniformBiaxialStretchIsExact)
 {
 	// stretch lx, ly of a right triangle in the xy plane: E = diag(lx^2-1, ly^2-1)/2
-	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.2, 0) };
-	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
-	const double       lx = 1.05, ly = 0.99;
-	const Vec3         x[3] = { X[0], Vec3(0.3 * lx, 0, 0), Vec3(0, 0.2 * ly, 0) };
-	const double       ex = 0.5 * (lx * lx - 1), ey = 0.5 * (ly * ly - 1);
-	const double       k = kLaw.Et / (1 - kLaw.nu * kLaw.nu);
-	const double       Sx = k * (ex + kLaw.nu * ey), Sy = k * (ey + kLaw.nu * ex);
+	const Vec3           X[3] = { Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.2, 0) };
+	const MembraneRest   rest = makeMembraneRest(X[0], X[1], X[2]);
+	const double         lx = 1.05, ly = 0.99;
+	const Vec3           x[3] = { X[0], Vec3(0.3 * lx, 0, 0), Vec3(0, 0.2 * ly, 0) };
+	const double         ex = 0.5 * (lx * lx - 1), ey = 0.5 * (ly * ly - 1);
+	const double         k  = kLaw.Et / (1 - kLaw.nu * kLaw.nu);
+	const double         Sx = k * (ex + kLaw.nu * ey), Sy = k * (ey + kLaw.nu * ex);
 	const MembraneResult r = membraneForces(x, rest, kLaw);
 	EXPECT_TRUE(close(r.energy, 0.5 * rest.A0 * (Sx * ex + Sy * ey), 1e-13));
 	// Cauchy membrane forces per current width: S scaled by lambda / other lambda
@@ -88,11 +88,11 @@ TEST(Membrane, ForcesAreMinusEnergyGradient)
 
 TEST(Membrane, ObjectiveUnderLargeRotation)
 {
-	test::Rng          rng(42);
-	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(0.4, 0.05, 0), Vec3(0.1, 0.3, 0.02) };
-	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
-	const Vec3         x[3] = { X[0], Vec3(0.42, 0.05, 0.01), Vec3(0.09, 0.31, 0.0) };
-	const MembraneResult r0 = membraneForces(x, rest, kLaw);
+	test::Rng            rng(42);
+	const Vec3           X[3] = { Vec3(0, 0, 0), Vec3(0.4, 0.05, 0), Vec3(0.1, 0.3, 0.02) };
+	const MembraneRest   rest = makeMembraneRest(X[0], X[1], X[2]);
+	const Vec3           x[3] = { X[0], Vec3(0.42, 0.05, 0.01), Vec3(0.09, 0.31, 0.0) };
+	const MembraneResult r0   = membraneForces(x, rest, kLaw);
 	for (int k = 0; k < 20; ++k) {
 		const Quat Q = rng.quat();
 		const Vec3 c = rng.vec();
@@ -113,8 +113,8 @@ TEST(Membrane, ObjectiveUnderLargeRotation)
 
 TEST(Membrane, TensionOnlyWrinklesAndSlackens)
 {
-	MembraneLaw law = kLaw;
-	law.tensionOnly = true;
+	MembraneLaw law         = kLaw;
+	law.tensionOnly         = true;
 	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) };
 	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
 	// uniform compression: slack, no force
@@ -124,9 +124,9 @@ TEST(Membrane, TensionOnlyWrinklesAndSlackens)
 	const Vec3 xt[3] = { X[0], Vec3(1.02, 0, 0), Vec3(0, 1, 0) };
 	EXPECT_EQ(membraneForces(xt, rest, law).energy, membraneForces(xt, rest, kLaw).energy);
 	// stretch in x, compressed in y beyond Poisson's contraction: wrinkled, uniaxial tension
-	const double lx = 1.02, ly = 0.97, e1 = 0.5 * (lx * lx - 1);
-	const Vec3   xw[3] = { X[0], Vec3(lx, 0, 0), Vec3(0, ly, 0) };
-	const MembraneResult r = membraneForces(xw, rest, law);
+	const double         lx = 1.02, ly = 0.97, e1 = 0.5 * (lx * lx - 1);
+	const Vec3           xw[3] = { X[0], Vec3(lx, 0, 0), Vec3(0, ly, 0) };
+	const MembraneResult r     = membraneForces(xw, rest, law);
 	EXPECT_TRUE(close(r.energy, 0.5 * rest.A0 * law.Et * e1 * e1, 1e-13));
 	EXPECT_NEAR(r.n2, 0, 1e-9);
 	EXPECT_TRUE(close(r.n1, law.Et * e1 * lx / ly, 1e-13));
@@ -134,12 +134,12 @@ TEST(Membrane, TensionOnlyWrinklesAndSlackens)
 
 TEST(Membrane, RuptureAtStrength)
 {
-	MembraneLaw law = kLaw;
-	law.strength    = 500; // N/m
-	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) };
-	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
-	const Vec3 below[3] = { X[0], Vec3(1.02, 0, 0), Vec3(0, 1, 0) }; // ~ 450 N/m
-	const Vec3 above[3] = { X[0], Vec3(1.03, 0, 0), Vec3(0, 1, 0) }; // ~ 680 N/m
+	MembraneLaw law             = kLaw;
+	law.strength                = 500; // N/m
+	const Vec3         X[3]     = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) };
+	const MembraneRest rest     = makeMembraneRest(X[0], X[1], X[2]);
+	const Vec3         below[3] = { X[0], Vec3(1.02, 0, 0), Vec3(0, 1, 0) }; // ~ 450 N/m
+	const Vec3         above[3] = { X[0], Vec3(1.03, 0, 0), Vec3(0, 1, 0) }; // ~ 680 N/m
 	EXPECT_FALSE(membraneForces(below, rest, law).rupture);
 	EXPECT_TRUE(membraneForces(above, rest, law).rupture);
 }
@@ -161,7 +161,7 @@ double tangentMaxEigen(const Vec3 x0[3], const MembraneRest& rest, const Membran
 		}
 	return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>>(0.5 * (K + K.transpose())).eigenvalues().maxCoeff();
 }
-}
+} // namespace
 
 TEST(Membrane, MaxOmega2MatchesNumericalStiffness)
 {
@@ -177,7 +177,6 @@ TEST(Membrane, DegenerateRestIsFlagged)
 	EXPECT_EQ(makeMembraneRest(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)).A0, 0.0);
 	EXPECT_EQ(makeMembraneRest(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)).A0, 0.0);
 }
-
 
 TEST(Membrane, StretchedMembraneStiffensAndTheFactorCoversIt)
 {
@@ -209,12 +208,12 @@ TEST(Membrane, StretchFactorBoundsTheTangentStiffness)
 	// {0, 0.3, 0.45}, taut and tension-only laws: the tangent's largest eigenvalue (finite
 	// differences, relative error ~1e-7) never exceeds the rest value times the factor, which
 	// is also not needlessly large: it is reached within 1% in some sample
-	std::mt19937                           rng(7);
-	std::normal_distribution<double>       n01(0, 1);
-	std::uniform_int_distribution<int>     pick(0, 2);
-	const double                           nus[3] = { 0.0, 0.3, 0.45 }, amp[3] = { 0.05, 0.3, 0.8 };
-	double                                 worst = 0;
-	int                                    checked = 0;
+	std::mt19937                       rng(7);
+	std::normal_distribution<double>   n01(0, 1);
+	std::uniform_int_distribution<int> pick(0, 2);
+	const double                       nus[3] = { 0.0, 0.3, 0.45 }, amp[3] = { 0.05, 0.3, 0.8 };
+	double                             worst   = 0;
+	int                                checked = 0;
 	for (int trial = 0; trial < 3000; ++trial) {
 		Vec3 X[3];
 		for (auto& p : X)
@@ -230,9 +229,9 @@ TEST(Membrane, StretchFactorBoundsTheTangentStiffness)
 		Vec3 x[3];
 		for (int k = 0; k < 3; ++k)
 			x[k] = Fd * X[k] + 0.01 * Vec3(n01(rng), n01(rng), n01(rng));
-		const MembraneResult r = membraneForces(x, rest, law);
-		const double bound = membraneMaxOmega2(rest, law, 1.0) * membraneStretchFactor(r.e1, r.e2, law);
-		const double exact = tangentMaxEigen(x, rest, law, 1e-7 * 0.1);
+		const MembraneResult r     = membraneForces(x, rest, law);
+		const double         bound = membraneMaxOmega2(rest, law, 1.0) * membraneStretchFactor(r.e1, r.e2, law);
+		const double         exact = tangentMaxEigen(x, rest, law, 1e-7 * 0.1);
 		ASSERT_LE(exact, bound * (1 + 1e-5)) << "trial " << trial << " e1 " << r.e1 << " e2 " << r.e2;
 		worst = std::max(worst, exact / bound);
 		++checked;

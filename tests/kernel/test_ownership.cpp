@@ -21,7 +21,7 @@ struct TestMesh {
 	std::vector<Vec3>             x;
 	std::vector<ElementNodes>     el;
 	std::vector<std::vector<int>> at;
-	int node(double px, double py, double pz)
+	int                           node(double px, double py, double pz)
 	{
 		x.emplace_back(px, py, pz);
 		at.emplace_back();
@@ -81,9 +81,9 @@ std::map<std::pair<int, int>, std::set<std::pair<int, int>>> pairOwners(const Te
 // node itself on both).
 TEST(Ownership, SphereOnTheSharedNodeOfAChainIsOneContact)
 {
-	TestMesh m;
-	const int n0 = m.node(0, 0, 0), n1 = m.node(1, 0, 0), n2 = m.node(2, 0, 0);
-	const int s0 = m.add({ n0, n1 }, 0.01), s1 = m.add({ n1, n2 }, 0.01);
+	TestMesh   m;
+	const int  n0 = m.node(0, 0, 0), n1 = m.node(1, 0, 0), n2 = m.node(2, 0, 0);
+	const int  s0 = m.add({ n0, n1 }, 0.01), s1 = m.add({ n1, n2 }, 0.01);
 	const Vec3 P(1, 0, 0.05);
 	const Hit  h0 = probe(m, m.element(s0), P, 0.045), h1 = probe(m, m.element(s1), P, 0.045);
 	EXPECT_EQ(h0.overlap, h1.overlap);
@@ -117,9 +117,9 @@ TEST(Ownership, SphereInANetCellTouchesFourWires)
 // cluster is closed transitively, not decided between neighbours only).
 TEST(Ownership, ShallowChainIsOneClusterClosedTransitively)
 {
-	TestMesh  m;
-	const int n0 = m.node(0, 0, 0.02), n1 = m.node(1, 0, 0), n2 = m.node(2, 0, 0.03), n3 = m.node(3, 0, 0.09);
-	const int s0 = m.add({ n0, n1 }, 0.01), s1 = m.add({ n1, n2 }, 0.01), s2 = m.add({ n2, n3 }, 0.01);
+	TestMesh     m;
+	const int    n0 = m.node(0, 0, 0.02), n1 = m.node(1, 0, 0), n2 = m.node(2, 0, 0.03), n3 = m.node(3, 0, 0.09);
+	const int    s0 = m.add({ n0, n1 }, 0.01), s1 = m.add({ n1, n2 }, 0.01), s2 = m.add({ n2, n3 }, 0.01);
 	const Vec3   P(0.5, 0, 5);
 	const double R = 5.2; // reaches every link, the far one barely
 	double       ov[3];
@@ -142,9 +142,9 @@ TEST(Ownership, ShallowChainIsOneClusterClosedTransitively)
 // bend, linked through the node the two share (not by the normals).
 TEST(Ownership, SphereOverAConvexBendIsOneContact)
 {
-	TestMesh  m;
-	const int n0 = m.node(-1, 0, 0), n1 = m.node(0, 0, 0), n2 = m.node(1, 0, -1);
-	const int a = m.add({ n0, n1 }, 0.01), b = m.add({ n1, n2 }, 0.01);
+	TestMesh     m;
+	const int    n0 = m.node(-1, 0, 0), n1 = m.node(0, 0, 0), n2 = m.node(1, 0, -1);
+	const int    a = m.add({ n0, n1 }, 0.01), b = m.add({ n1, n2 }, 0.01);
 	const Vec3   P(0.3, 0, 0.1);
 	const double R  = 0.31;
 	const Hit    ha = probe(m, m.element(a), P, R), hb = probe(m, m.element(b), P, R);
@@ -192,11 +192,11 @@ TEST(Ownership, BarOnAConvexFoldIsOneContact)
 // them: distinct contacts lose their force when merged).
 TEST(Ownership, BarLyingAlongAMembraneTouchesEachFacet)
 {
-	TestMesh  m;
-	const int n0 = m.node(0, -1, 0), n1 = m.node(4, -1, 0), n2 = m.node(0, 1, 0), n3 = m.node(4, 1, 0);
-	const int f1 = m.add({ n0, n1, n2 }, 0.002), f2 = m.add({ n1, n3, n2 }, 0.002);
-	const int b0 = m.node(0.5, 0, 0.011), b1 = m.node(3.5, 0, 0.011);
-	const int bar = m.add({ b0, b1 }, 0.01);
+	TestMesh      m;
+	const int     n0 = m.node(0, -1, 0), n1 = m.node(4, -1, 0), n2 = m.node(0, 1, 0), n3 = m.node(4, 1, 0);
+	const int     f1 = m.add({ n0, n1, n2 }, 0.002), f2 = m.add({ n1, n3, n2 }, 0.002);
+	const int     b0 = m.node(0.5, 0, 0.011), b1 = m.node(3.5, 0, 0.011);
+	const int     bar = m.add({ b0, b1 }, 0.01);
 	const PairHit h1 = pairHit(m, bar, m.element(bar), f1, m.element(f1)), h2 = pairHit(m, bar, m.element(bar), f2, m.element(f2));
 	ASSERT_GT(h1.overlap, 0);
 	ASSERT_GT(h2.overlap, 0);
@@ -214,8 +214,8 @@ TEST(Ownership, WireNodeAboveASeamIsOneContact)
 	const int e0 = m.node(0, -1, 0), e1 = m.node(0, 1, 0), l = m.node(-1, 0, 0), r = m.node(1, 0, 0);
 	const int f1 = m.add({ e0, e1, l }, 0.002), f2 = m.add({ e0, e1, r }, 0.002);
 	// the wire bends down at its node over the seam: each leg touches only at that node
-	const int w0 = m.node(-1, 0, 0.2), wn = m.node(0, 0, 0.011), w2 = m.node(1, 0, 0.2);
-	const int wire1 = m.add({ w0, wn }, 0.01), wire2 = m.add({ wn, w2 }, 0.01);
+	const int     w0 = m.node(-1, 0, 0.2), wn = m.node(0, 0, 0.011), w2 = m.node(1, 0, 0.2);
+	const int     wire1 = m.add({ w0, wn }, 0.01), wire2 = m.add({ wn, w2 }, 0.01);
 	const PairHit a = pairHit(m, wire1, m.element(wire1), f2, m.element(f2)), b = pairHit(m, wire2, m.element(wire2), f1, m.element(f1));
 	ASSERT_GT(a.overlap, 0);
 	ASSERT_GT(b.overlap, 0);

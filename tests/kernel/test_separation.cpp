@@ -34,10 +34,10 @@ TEST(Separation, SegmentsNeverApartWhenTheExactDistanceIsWithinReach)
 	std::uniform_real_distribution<double> u(-1, 1), lg(-12, -1);
 	int                                    apart = 0, n = 200000;
 	for (int k = 0; k < n; ++k) {
-		const double scale = std::pow(10.0, 3 * u(g));      // 1e-3 .. 1e3 m
+		const double scale = std::pow(10.0, 3 * u(g));     // 1e-3 .. 1e3 m
 		const Vec3   off   = Vec3(u(g), u(g), u(g)) * 1e3; // far from the origin too
-		Vec3 a0 = off + scale * Vec3(u(g), u(g), u(g)), a1 = off + scale * Vec3(u(g), u(g), u(g));
-		Vec3 b0 = off + scale * Vec3(u(g), u(g), u(g)), b1 = off + scale * Vec3(u(g), u(g), u(g));
+		Vec3         a0 = off + scale * Vec3(u(g), u(g), u(g)), a1 = off + scale * Vec3(u(g), u(g), u(g));
+		Vec3         b0 = off + scale * Vec3(u(g), u(g), u(g)), b1 = off + scale * Vec3(u(g), u(g), u(g));
 		if (k % 3 == 0) { // both in planes x = const, a box gap equal to the distance: the boundary case
 			a1[0] = a0[0];
 			b0[0] = b1[0] = a0[0] + scale * 0.1 * (1 + u(g));
@@ -67,12 +67,12 @@ TEST(Separation, SegmentTriangleNeverApartWhenTheExactDistanceIsWithinReach)
 			x3 = off + scale * Vec3(u(g), u(g), u(g));
 		Vec3 a = off + scale * Vec3(u(g), u(g), u(g)), b = off + scale * Vec3(u(g), u(g), u(g));
 		if (k % 3 == 0) { // a segment nearly parallel to the plane, just above or below it
-			const Vec3 nrm = (x2 - x1).cross(x3 - x1).normalized();
-			const Vec3 c   = (x1 + x2 + x3) / 3;
-			const Vec3 t   = nrm.cross(randomUnit(g)).normalized();
-			const double h = scale * 0.01 * u(g);
-			a              = c + h * nrm + scale * t;
-			b              = c + h * nrm * (1 + 1e-6 * u(g)) - scale * t;
+			const Vec3   nrm = (x2 - x1).cross(x3 - x1).normalized();
+			const Vec3   c   = (x1 + x2 + x3) / 3;
+			const Vec3   t   = nrm.cross(randomUnit(g)).normalized();
+			const double h   = scale * 0.01 * u(g);
+			a                = c + h * nrm + scale * t;
+			b                = c + h * nrm * (1 + 1e-6 * u(g)) - scale * t;
 		}
 		const double d     = segTriDist(a, b, x1, x2, x3);
 		const double reach = (k % 2) ? d * (1 + (u(g) > 0 ? 1 : -1) * std::pow(10.0, lg(g))) : scale * 0.05 * (1 + u(g));
@@ -88,9 +88,9 @@ TEST(Separation, RejectsAWireLyingAlongALiningOutsideItsReach)
 {
 	// the damping module's case: a wire leg 10 mm outside a lining triangle, parallel to it,
 	// with boxes that overlap (the plane test decides); and the same wire within reach
-	const Vec3 x1(0, 0, 0), x2(0.1, 0, 0), x3(0, 0.1, 0.002);
-	const Vec3 n = (x2 - x1).cross(x3 - x1).normalized();
-	const Vec3 a = Vec3(0.02, 0.02, 0) + 0.010 * n, b = Vec3(0.06, 0.03, 0.0006) + 0.010 * n;
+	const Vec3   x1(0, 0, 0), x2(0.1, 0, 0), x3(0, 0.1, 0.002);
+	const Vec3   n = (x2 - x1).cross(x3 - x1).normalized();
+	const Vec3   a = Vec3(0.02, 0.02, 0) + 0.010 * n, b = Vec3(0.06, 0.03, 0.0006) + 0.010 * n;
 	const double reach = 0.0015 + 0.001;
 	EXPECT_TRUE(segmentTriangleApart(a, b, x1, x2, x3, reach));
 	EXPECT_FALSE(segmentTriangleApart(a - 0.008 * n, b - 0.008 * n, x1, x2, x3, reach));

@@ -15,11 +15,11 @@ double sampledDistance(const Vec3& p, const Vec3& x1, const Vec3& x2, const Vec3
 	for (int i = 0; i <= n; ++i)
 		for (int j = 0; i + j <= n; ++j) {
 			const double u = double(i) / n, v = double(j) / n;
-			best           = std::min(best, (p - (x1 + u * (x2 - x1) + v * (x3 - x1))).norm());
+			best = std::min(best, (p - (x1 + u * (x2 - x1) + v * (x3 - x1))).norm());
 		}
 	return best;
 }
-}
+} // namespace
 
 // ---------------------------------------------------------------- point - triangle
 
@@ -31,14 +31,14 @@ TEST(ClosestPointOnTriangle, SevenVoronoiRegions)
 		unsigned support;
 		Vec3     q;
 	} cases[] = {
-		{ Vec3(0.5, 0.5, 0.3), 7, Vec3(0.5, 0.5, 0) },     // face (above)
-		{ Vec3(0.5, 0.5, -0.3), 7, Vec3(0.5, 0.5, 0) },    // face (below)
-		{ Vec3(-1, -0.5, 0.2), 1, x1 },                    // vertex 1
-		{ Vec3(3, -0.5, -0.1), 2, x2 },                    // vertex 2
-		{ Vec3(-0.3, 3, 0.4), 4, x3 },                     // vertex 3
-		{ Vec3(1, -0.7, 0.1), 3, Vec3(1, 0, 0) },          // edge 1-2
-		{ Vec3(-0.6, 1.5, 0.3), 5, Vec3(0, 1.5, 0) },      // edge 1-3
-		{ Vec3(1.5, 1.5, 0.2), 6, Vec3(1, 1, 0) },         // edge 2-3
+		{ Vec3(0.5, 0.5, 0.3), 7, Vec3(0.5, 0.5, 0) },  // face (above)
+		{ Vec3(0.5, 0.5, -0.3), 7, Vec3(0.5, 0.5, 0) }, // face (below)
+		{ Vec3(-1, -0.5, 0.2), 1, x1 },                 // vertex 1
+		{ Vec3(3, -0.5, -0.1), 2, x2 },                 // vertex 2
+		{ Vec3(-0.3, 3, 0.4), 4, x3 },                  // vertex 3
+		{ Vec3(1, -0.7, 0.1), 3, Vec3(1, 0, 0) },       // edge 1-2
+		{ Vec3(-0.6, 1.5, 0.3), 5, Vec3(0, 1.5, 0) },   // edge 1-3
+		{ Vec3(1.5, 1.5, 0.2), 6, Vec3(1, 1, 0) },      // edge 2-3
 	};
 	for (const Case& c : cases) {
 		const PointTriangle r = closestPointOnTriangle(c.p, x1, x2, x3);
@@ -55,13 +55,14 @@ TEST(ClosestPointOnTriangle, MatchesBruteForce)
 	test::Rng rng(31);
 	for (int k = 0; k < 300; ++k) {
 		const Vec3          x1 = rng.vec(), x2 = rng.vec(), x3 = rng.vec(), p = rng.vec(2.0);
-		const PointTriangle r  = closestPointOnTriangle(p, x1, x2, x3);
-		const double        d  = (p - r.point).norm();
+		const PointTriangle r = closestPointOnTriangle(p, x1, x2, x3);
+		const double        d = (p - r.point).norm();
 		// the exact distance is below every sample; samples come within the grid spacing
 		EXPECT_LE(d, sampledDistance(p, x1, x2, x3, 100) + 1e-12);
 		EXPECT_GE(d, sampledDistance(p, x1, x2, x3, 100) - 0.03);
 		EXPECT_NEAR(r.w[0] + r.w[1] + r.w[2], 1.0, 1e-14);
-		for (double w : r.w) EXPECT_GE(w, 0.0);
+		for (double w : r.w)
+			EXPECT_GE(w, 0.0);
 	}
 }
 
@@ -70,12 +71,12 @@ TEST(ClosestPointOnTriangle, SharedEdgeAndVertexAreBitIdentical)
 	// two facets sharing edge (b, c), listed in different orders: same point, same distance
 	test::Rng rng(32);
 	for (int k = 0; k < 200; ++k) {
-		const Vec3 a = rng.vec(), b = rng.vec(), c = rng.vec();
-		const Vec3 d = b + c - a + 0.3 * rng.vec(); // across the edge from a
-		const Vec3 m = 0.5 * (b + c) + 2 * rng.vec();
-		const PointTriangle r1 = closestPointOnTriangle(m, a, b, c);
-		const PointTriangle r2 = closestPointOnTriangle(m, c, d, b);
-		auto onShared = [](unsigned s, unsigned shared) { return (s & ~shared) == 0; };
+		const Vec3          a = rng.vec(), b = rng.vec(), c = rng.vec();
+		const Vec3          d        = b + c - a + 0.3 * rng.vec(); // across the edge from a
+		const Vec3          m        = 0.5 * (b + c) + 2 * rng.vec();
+		const PointTriangle r1       = closestPointOnTriangle(m, a, b, c);
+		const PointTriangle r2       = closestPointOnTriangle(m, c, d, b);
+		auto                onShared = [](unsigned s, unsigned shared) { return (s & ~shared) == 0; };
 		if (onShared(r1.support, 6) && onShared(r2.support, 5)) {
 			EXPECT_EQ((m - r1.point).norm(), (m - r2.point).norm());
 			EXPECT_EQ(r1.point, r2.point);
@@ -127,9 +128,9 @@ TEST(SegmentTriangle, MatchesBruteForce)
 {
 	test::Rng rng(33);
 	for (int k = 0; k < 200; ++k) {
-		const Vec3 x1 = rng.vec(), x2 = rng.vec(), x3 = rng.vec(), a = rng.vec(2.0), b = rng.vec(2.0);
-		const SegmentTriangle r = closestPointsSegmentTriangle(a, b, x1, x2, x3);
-		const double          d = (r.p1 - r.t.point).norm();
+		const Vec3            x1 = rng.vec(), x2 = rng.vec(), x3 = rng.vec(), a = rng.vec(2.0), b = rng.vec(2.0);
+		const SegmentTriangle r    = closestPointsSegmentTriangle(a, b, x1, x2, x3);
+		const double          d    = (r.p1 - r.t.point).norm();
 		double                best = std::numeric_limits<double>::infinity();
 		for (int i = 0; i <= 100; ++i) {
 			const Vec3          p = a + (i / 100.0) * (b - a);
@@ -221,7 +222,7 @@ TEST(DistributeToTriangle, CrushedTriangleSharesStayBoundedByTheCap)
 			EXPECT_LE(f[a].norm(), triangleLoadFactor(x, d.norm()) * F.norm() * (1 + 1e-12));
 			worstUncapped = std::max(worstUncapped, fu[a].norm() / F.norm());
 		}
-		if (h == 0.08) EXPECT_EQ(dc, d); // a regular triangle: untouched
+		if (h == 0.08) EXPECT_EQ(dc, d);                              // a regular triangle: untouched
 		if (h <= 1e-5) EXPECT_GT(worstUncapped, 1 + kFacetMomentCap); // what the cap prevents (8.4 at h = 1e-5)
 	}
 }

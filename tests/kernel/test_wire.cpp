@@ -14,7 +14,7 @@ namespace {
 const std::vector<double> kStrain = { 0.007, 0.012, 0.025, 0.04 };
 const std::vector<double> kStress = { 1.40e9, 1.60e9, 1.72e9, 1.77e9 };
 constexpr double          kArea   = 7.0685834705770345e-6; // d = 3 mm [m^2]
-constexpr double          kL0     = 0.05;                 // [m]
+constexpr double          kL0     = 0.05;                  // [m]
 
 WireCurve curve() { return { kStrain.data(), kStress.data(), (int)kStrain.size() }; }
 
@@ -71,7 +71,7 @@ TEST(WireLaw, MonotonicLoadingPassesThroughEveryKnot)
 		EXPECT_FALSE(a.rupture);
 	}
 	// between knots: linear interpolation
-	WireState st2;
+	WireState    st2;
 	const double e = 0.5 * (kStrain[1] + kStrain[2]);
 	EXPECT_TRUE(close(wireAxial(e, kL0, kArea, curve(), {}, st2).N, 0.5 * (kStress[1] + kStress[2]) * kArea, 1e-14));
 }
@@ -128,7 +128,8 @@ TEST(WireLaw, CycleDissipationEqualsEnclosedArea)
 	// exact value from the curve
 	const double Ew = kStress[0] / kStrain[0];
 	const double sA = kStress[1] + (0.02 - kStrain[1]) * (kStress[2] - kStress[1]) / (kStrain[2] - kStrain[1]);
-	const double W = 0.5 * kStress[0] * kStrain[0] + 0.5 * (kStress[0] + kStress[1]) * (kStrain[1] - kStrain[0]) + 0.5 * (kStress[1] + sA) * (0.02 - kStrain[1]);
+	const double W
+	        = 0.5 * kStress[0] * kStrain[0] + 0.5 * (kStress[0] + kStress[1]) * (kStrain[1] - kStrain[0]) + 0.5 * (kStress[1] + sA) * (0.02 - kStrain[1]);
 	EXPECT_TRUE(close(dissipated, kL0 * kArea * (W - 0.5 * sA * sA / Ew), 1e-12));
 }
 
@@ -143,7 +144,7 @@ TEST(WireLaw, WorkIsElasticPlusDissipatedOnAnyPath)
 		last = wireAxial(e, kL0, kArea, curve(), {}, st);
 		dissipated += last.plasticWork;
 	}
-	double ke[8], ks[8];
+	double    ke[8], ks[8];
 	const int m = wireEnvelopeKnots(curve(), {}, ke, ks);
 	double    W = 0;
 	for (int k = 1; k < m && ke[k - 1] < 0.031; ++k) {
@@ -198,8 +199,8 @@ TEST(WireLaw, DistortionShiftsTheCurveBehindASoftBranch)
 WireAxial envelopeReference(double strain, const WireDistortion& d, WireState& st)
 {
 	double    ke[70], ks[70];
-	const int m   = wireEnvelopeKnots(curve(), d, ke, ks);
-	auto      at  = [&](double e, double& s, double& W) {
+	const int m  = wireEnvelopeKnots(curve(), d, ke, ks);
+	auto      at = [&](double e, double& s, double& W) {
                 s = W = 0;
                 if (e <= 0) return;
                 for (int k = 1; k < m; ++k) {
@@ -238,12 +239,12 @@ TEST(WireLaw, EnvelopeBranchMatchesTheKnotArraysBitForBit)
 		WireDistortion d { kind == 0 ? 0.0 : rng.uniform(0, 0.05), kind == 2 ? rng.uniform(0.05, 1.0) : 1.0 };
 		const double   eEnd = d.slack + kStrain.back();
 		WireState      a;
-		a.maxStrain       = trial % 5 == 0 ? 0.0 : rng.uniform(0, eEnd);
-		a.plasticStrain   = a.maxStrain - wireEnvelope(curve(), d, a.maxStrain) / curve().elasticModulus();
-		WireState    b    = a;
-		const double next = a.maxStrain + (trial % 4 == 0 ? rng.uniform(0, 1e-5) : rng.uniform(0, 1.1 * eEnd));
-		const WireAxial x = wireAxialEnvelope(next, kL0, kArea, curve(), d, a);
-		const WireAxial y = envelopeReference(next, d, b);
+		a.maxStrain          = trial % 5 == 0 ? 0.0 : rng.uniform(0, eEnd);
+		a.plasticStrain      = a.maxStrain - wireEnvelope(curve(), d, a.maxStrain) / curve().elasticModulus();
+		WireState       b    = a;
+		const double    next = a.maxStrain + (trial % 4 == 0 ? rng.uniform(0, 1e-5) : rng.uniform(0, 1.1 * eEnd));
+		const WireAxial x    = wireAxialEnvelope(next, kL0, kArea, curve(), d, a);
+		const WireAxial y    = envelopeReference(next, d, b);
 		ASSERT_EQ(x.N, y.N) << "trial " << trial;
 		ASSERT_EQ(x.plasticWork, y.plasticWork) << "trial " << trial;
 		ASSERT_EQ(x.elasticEnergy, y.elasticEnergy) << "trial " << trial;
