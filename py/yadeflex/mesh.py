@@ -24,14 +24,14 @@ Knot models (chain_link_panel's knots option):
   of the hook is the links' stochastic slack (TECCO_MESH_CALIBRATION).
 - knots=True (planar panels): each inner knot is the two bends as they lie in the mesh, their
   apexes crossed one wire diameter d apart in the plane and one d apart across it (the wires
-  lie on each other: the hook's out-of-plane eccentricity), joined by a knot link (a bar of
-  the wire's section, 200 GPa, a hinge). The hook's play and eccentricity are then geometry,
-  so the wire has no statistical slack (TECCO_KNOTTED_CALIBRATION). Nothing in it is fitted to
-  the mesh datasheet: d, the wire section and E are the wire's. Its time step is about 20
-  times shorter (the short knot links; FlexTimeStepper bounds each bond with its own mass).
-
-One cylinder per leg (knot to knot), so each leg is one link of the wire law, with its own
-stochastic slack (see yadeflex.wire).
+  lie on each other: the hook's out-of-plane eccentricity), joined by a knot link (a beam of
+  the wire's section, 200 GPa). The knot is then an eccentric joint; its play stays the links'
+  slack (TECCO_MESH_CALIBRATION). The link is a beam, not a hinge: a hinged link lets the two
+  bends swing through each other (most knots of a panel pulled to rupture do), which the wires wrapped
+  around each other cannot do; a hinge that cannot pass needs a hook contact the plugin does
+  not have. Nothing in it is fitted to the mesh datasheet: d, the wire section and E are the
+  wire's. Its time step is about 20 times shorter (the short knot links; FlexTimeStepper
+  bounds each bond with its own mass).
 """
 import math
 
@@ -53,9 +53,6 @@ TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrug
 # WirePM's default). The datasheet's 150 kN/m is then only a check (validation/README.md); the
 # free side edges make the per-metre strength depend on the specimen width.
 TECCO_MESH_CALIBRATION = dict(slack_scale=0.036, force_ratio=1.0)
-# With explicit knots (knots=True) the hook's play is in the geometry (crossed apexes, a knot
-# link of length d sqrt(2)): a slack on top would count it twice.
-TECCO_KNOTTED_CALIBRATION = dict(slack_scale=0.0, force_ratio=1.0)
 
 
 def _lattice(nx, ny):
@@ -100,11 +97,11 @@ def _spirals(nx, ny, node_of, r, mat):
 
 
 def knot_bar(label="tecco_knot", young=200e9):
-    """Material of the knot links (see _build_knotted): a linear-elastic steel bar, axial only
-    (bending_factor 0: the hook turns freely), the wire's E = 200 GPa; never ruptures (a knot
-    fails by the wire breaking at its bend, which the legs' wire law carries)."""
+    """Material of the knot links (see _build_knotted): a linear-elastic steel beam of the
+    wire's E = 200 GPa (bending_factor 1: the two bends cannot swing through each other); never
+    ruptures (a knot fails by the wire breaking at its bend, which the legs' wire law carries)."""
     from .materials import flex_material
-    return flex_material(young=young, density=7850.0, bending_factor=0.0, label=label)
+    return flex_material(young=young, density=7850.0, bending_factor=1.0, label=label)
 
 
 def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material):
@@ -116,8 +113,8 @@ def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material):
     other wire) and one diameter apart across the plane (the wires lie on each other: the
     out-of-plane eccentricity of the hook). One node per apex; a knot link (a bar of the
     wire's section, knot_material) joins them, of length d sqrt(2). Pulling the spirals apart
-    presses the two bends together: the link carries it in compression, and its tilt turns part
-    of it out of the plane. Each spiral's bends alternate above and below the plane along k
+    presses the two bends together: the link carries it, and its tilt turns part of it out of
+    the plane. Each spiral's bends alternate above and below the plane along k
     (its legs cross the plane), as the flattened helix of a real spiral does. Edge bends (columns 0 and nx) have no
     partner: one node in the plane."""
     r = B._positive("wire radius", wire_radius)

@@ -108,7 +108,7 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
         B._material(material, append=False)
     panel_counts(width, height)
     O.reset()
-    mat = material if material is not None else tecco_wire(seed=seed, knots=knots)
+    mat = material if material is not None else tecco_wire(seed=seed)
     p = chain_link_panel(width, height, mat, knots=knots)
     axis = 1 if direction == "longitudinal" else 0
     held, driven = (p["edges"]["left"], p["edges"]["right"]) if axis == 0 else (p["edges"]["bottom"], p["edges"]["top"])
@@ -163,13 +163,13 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
 def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345, slack_scale=None, knots=False):
     """The TECCO G65/3 panel test of scripts/tensile_mesh.py and the validation report: a panel 1 m
     long in the pulling direction and `width` [m] across it, the wire of yadeflex.wire.tecco_wire
-    (seed, slack_scale: None for the calibration of the knot model), pulled at speed [m/s] to rupture
+    (seed, slack_scale: None for its calibration), pulled at speed [m/s] to rupture
     (mesh_tensile_test); knots: the knot model (yadeflex.mesh.chain_link_panel).
     Returns (scene, result, wall seconds)."""
     import time
     from .wire import tecco_wire
     t = time.time()
-    mat = tecco_wire(seed=seed, slack_scale=slack_scale, knots=knots)
+    mat = tecco_wire(seed=seed, slack_scale=slack_scale)
     w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
     s = mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat, knots=knots)
     r = mesh_tensile_test(s, chunk=400, max_elongation=0.9)

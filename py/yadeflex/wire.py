@@ -53,14 +53,13 @@ def wire_material(strain, stress, young=None, density=7850.0, slack_scale=0.0, f
     return m
 
 
-def tecco_wire(label="tecco_wire", slack_scale=None, force_ratio=None, seed=12345, knots=False, **kw):
+def tecco_wire(label="tecco_wire", slack_scale=None, force_ratio=None, seed=12345, **kw):
     """TECCO G65/3 wire: d = 3 mm high-tensile steel, 1770 N/mm2 (curve TECCO_WIRE_*).
 
-    Distortion defaults (slack_scale, force_ratio) are the mesh calibration of the knot model
-    (see yadeflex.mesh): TECCO_MESH_CALIBRATION for shared-node knots, TECCO_KNOTTED_CALIBRATION
-    for knots=True; pass 0 and 1 for a straight single wire."""
-    from .mesh import TECCO_MESH_CALIBRATION, TECCO_KNOTTED_CALIBRATION
-    cal = TECCO_KNOTTED_CALIBRATION if C.boolean("knots", knots) else TECCO_MESH_CALIBRATION
+    Distortion defaults (slack_scale, force_ratio) are the mesh calibration of
+    TECCO_MESH_CALIBRATION (see yadeflex.mesh); pass 0 and 1 for a straight single wire."""
+    from .mesh import TECCO_MESH_CALIBRATION
+    cal = TECCO_MESH_CALIBRATION
     return wire_material(TECCO_WIRE_STRAIN, TECCO_WIRE_STRESS, density=7850.0,
                          slack_scale=cal["slack_scale"] if slack_scale is None else slack_scale,
                          force_ratio=cal["force_ratio"] if force_ratio is None else force_ratio,
