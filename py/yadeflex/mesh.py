@@ -16,15 +16,22 @@ spirals. In the model, across the spirals the panel is a mechanism: 35 kN/m at 7
 measured with scripts/tensile_mesh.py. That is incompatible with a direction rated 150 kN/m.
 This is a judgement: the datasheet does not say which way the spirals run.
 
-Knot model: the two hooked bends of neighbouring spirals share ONE node. It transmits force
-both ways, as the hook does in tension, and it costs nothing to detect. The legs that meet at
-a knot are bonded neighbours, so they never contact each other. The price: the node also
-carries moments between the two spirals, which a real hook does not, so the knot is a rigid
-joint rather than a hinge. The moments are elastic bending of a 3 mm wire (about 4EI/L = 38 N m
-per radian per leg end), which is small against the axial forces (kN).
-
-One cylinder per leg (knot to knot), so each leg is one link of the wire law, with its own
-stochastic slack (see yadeflex.wire).
+Knot models (chain_link_panel's knots option):
+- knots=False (default; the only one of chain_link_cylinder): the two hooked bends of
+  neighbouring spirals share ONE node. It transmits force both ways and costs nothing to
+  detect; the legs that meet there are bonded neighbours that never touch. The node also
+  carries moments between the two spirals (beam links), which a real hook does not. The play
+  of the hook is the links' stochastic slack (TECCO_MESH_CALIBRATION).
+- knots=True (planar panels): each inner knot is the two bends as they lie in the mesh, their
+  apexes crossed one wire diameter d apart in the plane and one d apart across it (the wires
+  lie on each other: the hook's out-of-plane eccentricity), joined by a knot link (a beam of
+  the wire's section, 200 GPa). The knot is then an eccentric joint; its play stays the links'
+  slack (TECCO_MESH_CALIBRATION). The link is a beam, not a hinge: a hinged link lets the two
+  bends swing through each other (most knots of a panel pulled to rupture do), which the wires wrapped
+  around each other cannot do; a hinge that cannot pass needs a hook contact the plugin does
+  not have. Nothing in it is fitted to the mesh datasheet: d, the wire section and E are the
+  wire's. Its time step is about 20 times shorter (the short knot links; FlexTimeStepper
+  bounds each bond with its own mass).
 """
 import math
 
@@ -43,9 +50,8 @@ TECCO_G65_STRENGTH = 150e3  # [N/m] mesh tensile strength, longitudinal (Geobrug
 # Distortion of the mesh links (Thoeni et al. 2013 "type 2"), NOT fitted to the mesh datasheet:
 # the slack of a link is at most the play of a knot, one wire diameter over a leg,
 # d / sqrt(a^2 + h^2) = 3 / 82.7 = 0.036, reached through one soft segment (force ratio 1, as
-# WirePM's default). The datasheet's 150 kN/m is then only a check
-# (scripts/tensile_mesh.py: 128 kN/m, -14%, for a 1 m wide panel; 102 and 181 kN/m for 0.5 and
-# 2 m: the free side edges make the per-metre strength depend on the specimen width).
+# WirePM's default). The datasheet's 150 kN/m is then only a check (validation/README.md); the
+# free side edges make the per-metre strength depend on the specimen width.
 TECCO_MESH_CALIBRATION = dict(slack_scale=0.036, force_ratio=1.0)
 
 
@@ -74,15 +80,66 @@ def _build(nx, ny, position, material, wire_radius, wrap=""):
             continue
         ids[(i, k)] = B.node(position(i, k), r, mat)
     key = lambda i, k: (i % nx if wrap == "x" else i, k % ny if wrap == "y" else k)
+    return ids, _spirals(nx, ny, lambda s, i, k: ids[key(i, k)], r, mat)
+
+
+def _spirals(nx, ny, node_of, r, mat):
+    """Legs of every spiral s as cylinders between node_of(s, i, k) at its consecutive bends."""
     spirals = []
     for s in range(nx):
         legs = []
         for k in range(ny):
-            a = ids[key(_spiral_column(s, k), k)]
-            b = ids[key(_spiral_column(s, k + 1), k + 1)]
+            a = node_of(s, _spiral_column(s, k), k)
+            b = node_of(s, _spiral_column(s, k + 1), k + 1)
             legs.append(B.cylinder(a, b, r, mat))
         spirals.append(legs)
-    return ids, spirals
+    return spirals
+
+
+def knot_bar(label="tecco_knot", young=200e9):
+    """Material of the knot links (see _build_knotted): a linear-elastic steel beam of the
+    wire's E = 200 GPa (bending_factor 1: the two bends cannot swing through each other); never
+    ruptures (a knot fails by the wire breaking at its bend, which the legs' wire law carries)."""
+    from .materials import flex_material
+    return flex_material(young=young, density=7850.0, bending_factor=1.0, label=label)
+
+
+def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material):
+    """Planar panel whose knots are two hooked bends (knots=True of chain_link_panel).
+
+    At an inner knot (i, k) the bend of the spiral on the left (s = i - 1) is wrapped around
+    the wire of the spiral on the right (s = i) and the other way round: the two bends' apexes
+    are crossed, one wire diameter d = 2 r apart along x (each apex lies on the far side of the
+    other wire) and one diameter apart across the plane (the wires lie on each other: the
+    out-of-plane eccentricity of the hook). One node per apex; a knot link (a bar of the
+    wire's section, knot_material) joins them, of length d sqrt(2). Pulling the spirals apart
+    presses the two bends together: the link carries it, and its tilt turns part of it out of
+    the plane. Each spiral's bends alternate above and below the plane along k
+    (its legs cross the plane), as the flattened helix of a real spiral does. Edge bends (columns 0 and nx) have no
+    partner: one node in the plane."""
+    r = B._positive("wire radius", wire_radius)
+    d = 2 * r
+    mat = B._material(material)
+    kmat = B._material(knot_material)
+    apex = {}  # (s, i, k) -> node id
+    links = []
+    for (i, k) in _lattice(nx, ny):
+        p = origin + Vector3(i * a, k * h, 0)
+        here = [s for s in (i - 1, i) if 0 <= s < nx and _spiral_column(s, k) == i]
+        if len(here) == 1:
+            apex[(here[0], i, k)] = B.node(p, r, mat)
+            continue
+        # spiral i-1's bend wraps around spiral i's wire and lies under it; each spiral is the
+        # left one at every other bend, so its bends alternate under and over the plane
+        left = B.node(p + Vector3(0.5 * d, 0, -0.5 * d), r, mat)
+        right = B.node(p + Vector3(-0.5 * d, 0, 0.5 * d), r, mat)
+        apex[(i - 1, i, k)], apex[(i, i, k)] = left, right
+        links.append(B.cylinder(left, right, r, kmat))
+    spirals = _spirals(nx, ny, lambda s, i, k: apex[(s, i, k)], r, mat)
+    at = {}
+    for (s, i, k), n in apex.items():
+        at.setdefault((i, k), []).append(n)
+    return at, spirals, links
 
 
 def _counts(length, pitch, what, even=False):
@@ -104,18 +161,30 @@ def panel_counts(width, height, dx=TECCO_G65_DX, dy=TECCO_G65_DY):
 
 
 def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
-                     origin=(0, 0, 0)):
+                     origin=(0, 0, 0), knots=False, knot_material=None):
     """Planar chain-link panel in the plane z = origin.z: x across the spirals (longitudinal,
     width [m]), y along them (height [m]); rhombus diagonals dx, dy [m]. The sizes are rounded
     to whole half-diagonals (the returned params give the built ones).
-    Returns dict(nodes={(i, k): id}, cylinders, spirals, edges, params)."""
+    knots: False (default), each knot one node shared by the two spirals; True, each inner knot
+    two crossed bend apexes with the hook's eccentricity joined by a knot link of
+    knot_material (None: knot_bar()); see _build_knotted.
+    Returns dict(nodes={(i, k): id, or [ids] with knots}, cylinders (the legs), spirals, edges,
+    knot_links, params)."""
     o = B.check_finite("panel origin", origin)
     a, h, nx, ny = panel_counts(width, height, dx, dy)
-    ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
-    edges = dict(left=[ids[p] for p in sorted(ids) if p[0] == 0], right=[ids[p] for p in sorted(ids) if p[0] == nx],
-                 bottom=[ids[p] for p in sorted(ids) if p[1] == 0], top=[ids[p] for p in sorted(ids) if p[1] == ny])
-    return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges,
-                params=dict(width=nx * a, height=ny * h, dx=2 * a, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius))
+    links = []
+    if C.boolean("knots", knots):
+        ids, spirals, links = _build_knotted(nx, ny, a, h, o, material, wire_radius,
+                                             knot_material if knot_material is not None else knot_bar())
+        flat = lambda p: ids[p]
+    else:
+        ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
+        flat = lambda p: [ids[p]]
+    edge = lambda test: [n for p in sorted(ids) if test(p) for n in flat(p)]
+    edges = dict(left=edge(lambda p: p[0] == 0), right=edge(lambda p: p[0] == nx),
+                 bottom=edge(lambda p: p[1] == 0), top=edge(lambda p: p[1] == ny))
+    return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges, knot_links=links,
+                params=dict(width=nx * a, height=ny * h, dx=2 * a, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius, knots=knots))
 
 
 def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,

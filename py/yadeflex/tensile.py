@@ -90,13 +90,14 @@ def _edge_force(ids, axis):
 
 
 def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5, damping=0.2, seed=12345, material=None,
-                     clamp="pinned"):
+                     clamp="pinned", knots=False):
     """TECCO G65/3 panel (yadeflex.mesh.chain_link_panel) clamped on two opposite edges; one
     edge held, the other driven outwards at `speed` [m/s] (all its DOFs blocked).
     direction: 'longitudinal' (pull along the spirals, y: the datasheet's 150 kN/m, see
     yadeflex.mesh) or 'transverse' (across the spirals, x). width, height [m] along x, y; damping [-] Cundall's
     local damping (quasi-static); clamp: 'pinned' (edge knots held in translation, free to turn,
-    as wires wrapped around a clamping bar) or 'fixed'. Returns dict(held, driven, axis, length, loaded_width, ...)."""
+    as wires wrapped around a clamping bar) or 'fixed'; knots: the panel's knot model
+    (yadeflex.mesh.chain_link_panel). Returns dict(held, driven, axis, length, loaded_width, ...)."""
     from .mesh import chain_link_panel, panel_counts
     from .wire import tecco_wire
     C.choice("direction", direction, ("longitudinal", "transverse"))
@@ -108,7 +109,7 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     panel_counts(width, height)
     O.reset()
     mat = material if material is not None else tecco_wire(seed=seed)
-    p = chain_link_panel(width, height, mat)
+    p = chain_link_panel(width, height, mat, knots=knots)
     axis = 1 if direction == "longitudinal" else 0
     held, driven = (p["edges"]["left"], p["edges"]["right"]) if axis == 0 else (p["edges"]["bottom"], p["edges"]["top"])
     dofs = "xyz" if clamp == "pinned" else "xyzXYZ"
@@ -122,7 +123,7 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     length = p["params"]["width"] if axis == 0 else p["params"]["height"]
     loaded_width = p["params"]["height"] if axis == 0 else p["params"]["width"]
     p.update(held=held, driven=driven, axis=axis, length=length, loaded_width=loaded_width, material=mat,
-             params=dict(p["params"], direction=direction, clamp=clamp, speed=speed, damping=damping, seed=seed,
+             params=dict(p["params"], direction=direction, clamp=clamp, speed=speed, damping=damping, seed=seed, knots=knots,
                          slack_scale=mat.wireSlackScale, force_ratio=mat.wireForceRatio))
     return p
 
@@ -159,17 +160,18 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
                 unbalance_at_peak=unbalance[k_peak], iterations=O.iter, dt=O.dt)
 
 
-def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345, slack_scale=None):
+def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345, slack_scale=None, knots=False):
     """The TECCO G65/3 panel test of scripts/tensile_mesh.py and the validation report: a panel 1 m
     long in the pulling direction and `width` [m] across it, the wire of yadeflex.wire.tecco_wire
     (seed, slack_scale: None for its calibration), pulled at speed [m/s] to rupture
-    (mesh_tensile_test). Returns (scene, result, wall seconds)."""
+    (mesh_tensile_test); knots: the knot model (yadeflex.mesh.chain_link_panel).
+    Returns (scene, result, wall seconds)."""
     import time
     from .wire import tecco_wire
     t = time.time()
     mat = tecco_wire(seed=seed, slack_scale=slack_scale)
     w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
-    s = mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat)
+    s = mesh_panel_scene(width=w, height=h, direction=direction, speed=speed, seed=seed, material=mat, knots=knots)
     r = mesh_tensile_test(s, chunk=400, max_elongation=0.9)
     return s, r, time.time() - t
 

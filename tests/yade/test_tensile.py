@@ -86,23 +86,73 @@ def test_chain_link_cylinder_is_closed_with_its_seam_and_takes_edge_rings(scene,
     assert n_before == len(m["cylinders"])
 
 
-def test_tecco_panel_longitudinal_strength_vs_datasheet(scene):
-    """1 x 1 m panel, clamped edges, pulled along the spirals. The model has no parameter fitted
-    to the mesh (wire curve from wire data; slack from the knot play; see yadeflex.mesh): its
-    peak is a prediction, measured 128 kN/m, -14% from the datasheet's 150 kN/m. The test keeps
-    it within 20% of the datasheet and checks that the test is quasi-static."""
+def test_knotted_chain_link_panel_geometry(scene):
+    """knots=True: every inner knot is two crossed bend apexes, one wire diameter apart in the
+    plane and across it, joined by one knot link (a beam); each spiral stays one continuous
+    wire, its bends alternating under and over the plane."""
+    p = mesh.chain_link_panel(1.0, 1.0, wire.tecco_wire(), knots=True)
+    nx, ny = p["params"]["nx"], p["params"]["ny"]
+    d = 2 * mesh.TECCO_G65_WIRE_RADIUS
+    inner = [ij for ij in p["nodes"] if 0 < ij[0] < nx]
+    assert len(p["knot_links"]) == len(inner) and all(len(p["nodes"][ij]) == 2 for ij in inner)
+    assert all(len(p["nodes"][ij]) == 1 for ij in p["nodes"] if ij[0] in (0, nx))
+    for c in p["knot_links"]:
+        sh = O.bodies[c].shape
+        a, b = O.bodies[sh.node1].state.pos, O.bodies[sh.node2].state.pos
+        assert (a[0] - b[0], abs(a[1] - b[1]), b[2] - a[2]) == (pytest.approx(d, rel=1e-9), pytest.approx(0, abs=1e-12),
+                                                                pytest.approx(d, rel=1e-9))
+        assert O.bodies[c].material.bendingFactor == 1
+    legs = _legs_at(p["cylinders"])
+    assert all(legs[i] == 2 for ij in inner if 0 < ij[1] < ny for i in p["nodes"][ij])
+    for sp in p["spirals"]:
+        for c1, c2 in zip(sp, sp[1:]):
+            assert O.bodies[c1].shape.node2 == O.bodies[c2].shape.node1
+        zs = [O.bodies[O.bodies[c].shape.node1].state.pos[2] for c in sp]
+        assert all(z1 == -z2 for z1, z2 in zip(zs, zs[1:]) if z1 and z2)  # edge bends lie in the plane
+
+
+def test_knotted_panel_keeps_its_knots_hooked(scene):
+    """A 0.5 x 0.5 m knotted panel pulled along the spirals to rupture: no two bends pass through
+    each other (the crossed apexes keep their order in the plane), the test is quasi-static, and
+    the peak stays below every wire crossing a section at its breaking force."""
+    s = tensile.mesh_panel_scene(width=0.5, height=0.5, direction="longitudinal", speed=1.0, knots=True)
+    r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    assert r["ruptured"] > 0
+    assert r["unbalance_at_peak"] < 0.01, "quasi-static: both clamped edges carry the same force"
+    assert r["peak"] < 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
+    order = [O.bodies[O.bodies[c].shape.node1].state.pos[0] - O.bodies[O.bodies[c].shape.node2].state.pos[0]
+             for c in s["knot_links"] if O.bodies[c] is not None]
+    assert order and min(order) > 0, "a bend passed through the wire it is hooked around"
+
+
+def _tecco_panel_runs():
     runs = {}
     for speed in (1.0, 2.0):
         s = tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=speed)
         runs[speed] = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    return runs
+
+
+def test_tecco_panel_is_quasi_static_and_below_the_wire_bound(scene):
+    """1 x 1 m panel (the module's mesh: shared-node knots), clamped edges, pulled along the
+    spirals: speed-independent peak, balanced edges, bounded by the wires."""
+    runs = _tecco_panel_runs()
     r = runs[1.0]
     assert r["ruptured"] > 0
     assert r["unbalance_at_peak"] < 0.01, "quasi-static: both clamped edges carry the same force"
     assert_rel(runs[2.0]["peak"], r["peak"], 0.01, "peak independent of the pulling speed")
-    upper = 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
-    assert r["peak"] < upper, "no more than every wire crossing a section at its breaking force"
-    assert_rel(r["peak"], mesh.TECCO_G65_STRENGTH, 0.20, "peak resistance per metre vs TECCO G65/3 datasheet")
+    assert r["peak"] < 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
     assert 0.005 < r["elongation_at_peak"] < 0.2
+
+
+@pytest.mark.xfail(strict=True, reason="issue 36: the hook of the chain-link knot is not modelled well enough "
+                                       "(124 kN/m shared nodes, 119-129 kN/m eccentric knots: validation/README.md)")
+def test_tecco_panel_longitudinal_strength_vs_datasheet(scene):
+    """The datasheet's 150 kN/m within issue 36's 5% (one value, no scatter given). No parameter
+    is fitted to the mesh, so this is a prediction; strict: passing would flag the change."""
+    s = tensile.mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=1.0)
+    r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
+    assert_rel(r["peak"], mesh.TECCO_G65_STRENGTH, 0.05, "peak resistance per metre vs TECCO G65/3 datasheet")
 
 
 def test_rope_closed_around_two_modules_has_the_hull_length(scene):
