@@ -68,6 +68,73 @@ FlexElementEngine::Link FlexElementEngine::linkOf(const Scene* scene, const Body
 	return L;
 }
 
+namespace {
+	// The forces of one cylinder on its nodes, and its strain. A bond without bending or twist
+	// stiffness (bendingFactor 0: a bar, or a truss link of a wire mesh) is axial only: no
+	// rotations to compute and no moments (tests/kernel/test_beam.cpp: the same forces bit for bit
+	// as the beam with EI = GJ = 0). ew: the wire curve's elastic modulus (flexa::wireAxial).
+	flex::BeamForces cylinderForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
+	{
+		const bool wire = mat.isWire();
+		if (mat.bendingFactor == 0) {
+			const flex::Chord ch = flex::chord(si.pos, sj.pos);
+			strain               = (ch.L - c.L0) / c.L0; // (the strain divided out once, not twice)
+			return flex::barForces(ch,
+			        wire ? flexa::wireAxial(mat, c, strain, ew)
+			             : flex::axialForce(strain, flexa::section(mat, c.radius).EA, c.L0, flexa::axialLaw(mat, c.radius), st));
+		}
+		flex::BeamRest rest;
+		rest.L0                        = c.L0;
+		rest.Qi                        = c.Q1;
+		rest.Qj                        = c.Q2;
+		const flex::BeamKinematics kin = flex::beamKinematics(si.pos, sj.pos, si.ori, sj.ori, rest);
+		strain                         = (kin.L - c.L0) / c.L0;
+		return wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(mat, c.radius), flexa::wireAxial(mat, c, strain, ew))
+		            : flex::beamForces(kin, rest, flexa::section(mat, c.radius), flexa::axialLaw(mat, c.radius), st);
+	}
+
+	// The serial loop's sums per node (accF, accM by slot) into the ForceContainer. Without
+	// facets: the contact forces summed first (sync), the element forces then added to those sums
+	// directly (addForce costs a thread lookup and a size check per call, and the integrator's
+	// sync then has nothing left to do); with one thread each node's sum is the same bit for bit
+	// (its contact forces, then its element force). A later engine's addForce marks the container
+	// unsynced again and the integrator's sync adds it on top. With facets (facetForces adds with
+	// addForce afterwards): addForce.
+	void addNodeSums(Scene* scene, const std::vector<Body::id_t>& slotNode, const std::vector<Vector3r>& accF, const std::vector<Vector3r>& accM,
+	        bool anyMoment, bool direct)
+	{
+		const shared_ptr<Body>* bodies  = scene->bodies->body.data();
+		const long              nBodies = (long)scene->bodies->body.size();
+		if (direct) {
+			scene->forces.addMaxId((Body::id_t)nBodies - 1); // so that sync() sizes the sums to every body
+			scene->forces.sync();
+		}
+		for (size_t i = 0; i < slotNode.size(); ++i) {
+			if (!bodies[slotNode[i]]) continue;
+			if (direct) {
+				scene->forces.addForceUnsynced(slotNode[i], accF[i]);
+				if (anyMoment) scene->forces.addTorqueUnsynced(slotNode[i], accM[i]);
+			} else {
+				scene->forces.addForce(slotNode[i], accF[i]);
+				if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
+			}
+		}
+	}
+
+	// The collider pairs of bonded neighbours the Ig2s reported this step, erased (FlexProtocol.hpp)
+	void eraseNeighbourPairs(Scene* scene)
+	{
+		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
+		std::lock_guard<std::mutex> lock(np.m);
+		if (np.scene != scene || np.pairs.empty()) return;
+		for (const auto& pr : np.pairs) {
+			const shared_ptr<Interaction> I = scene->interactions->find(pr.first, pr.second);
+			if (I && !I->isReal()) scene->interactions->erase(pr.first, pr.second, I->linIx);
+		}
+		np.pairs.clear();
+	}
+} // namespace
+
 void FlexElementEngine::action()
 {
 	flexa::checkScene(scene);
@@ -137,33 +204,12 @@ void FlexElementEngine::action()
 		}
 		const FlexMat* mat = lastFlex;
 		if (!mat) continue;
-		State *          si = lk.si, *sj = lk.sj;
-		const bool       wire = mat->isWire();
-		flex::AxialState st { c.plasticStrain, c.hardeningVar };
-		flex::BeamForces f;
-		Real             L, strain; // (the strain divided out once, not twice)
-		// a bond without bending or twist stiffness (bendingFactor 0: a bar, or a truss link of a
-		// wire mesh) is axial only: no rotations to compute and no moments (tests/kernel/test_beam.cpp:
-		// the same forces bit for bit as the beam with EI = GJ = 0)
-		const bool bar = mat->bendingFactor == 0;
-		if (bar) {
-			const flex::Chord ch = flex::chord(si->pos, sj->pos);
-			L                    = ch.L;
-			strain               = (L - c.L0) / c.L0;
-			f                    = flex::barForces(ch,
-                                wire ? flexa::wireAxial(*mat, c, strain, lastEw)
-			                                : flex::axialForce(strain, flexa::section(*mat, c.radius).EA, c.L0, flexa::axialLaw(*mat, c.radius), st));
-		} else {
-			flex::BeamRest rest;
-			rest.L0                        = c.L0;
-			rest.Qi                        = c.Q1;
-			rest.Qj                        = c.Q2;
-			const flex::BeamKinematics kin = flex::beamKinematics(si->pos, sj->pos, si->ori, sj->ori, rest);
-			L                              = kin.L;
-			strain                         = (L - c.L0) / c.L0;
-			f = wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(*mat, c.radius), flexa::wireAxial(*mat, c, strain, lastEw))
-			         : flex::beamForces(kin, rest, flexa::section(*mat, c.radius), flexa::axialLaw(*mat, c.radius), st);
-		}
+		State *                si = lk.si, *sj = lk.sj;
+		const bool             wire = mat->isWire();
+		const bool             bar  = mat->bendingFactor == 0;
+		flex::AxialState       st { c.plasticStrain, c.hardeningVar };
+		Real                   strain;
+		const flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);
 		if (!wire) {
 			c.plasticStrain = st.plasticStrain;
 			c.hardeningVar  = st.hardeningVar;
@@ -214,46 +260,14 @@ void FlexElementEngine::action()
 			broken.push_back(id);
 		}
 	}
-	if (serial && !slotNode.empty()) {
-		if (facets.empty()) {
-			// The contact forces summed first (ForceContainer::sync), the element forces then added
-			// to those sums directly: addForce costs a thread lookup and a size check per call, and
-			// the integrator's sync then has nothing left to do. With one thread each node's sum is
-			// the same bit for bit (its contact forces, then its element force); with several, the
-			// threads' contact sums are added before the element force instead of after. A later
-			// engine's addForce marks the container unsynced again and the integrator's sync adds
-			// it on top, as before. (With facets, facetForces below adds with addForce: kept.)
-			scene->forces.addMaxId((Body::id_t)nBodies - 1); // so that sync() sizes the sums to every body
-			scene->forces.sync();
-			for (size_t i = 0; i < slotNode.size(); ++i) {
-				if (!bodies[slotNode[i]]) continue;
-				scene->forces.addForceUnsynced(slotNode[i], accF[i]);
-				if (anyMoment) scene->forces.addTorqueUnsynced(slotNode[i], accM[i]);
-			}
-		} else
-			for (size_t i = 0; i < slotNode.size(); ++i) {
-				if (!bodies[slotNode[i]]) continue;
-				scene->forces.addForce(slotNode[i], accF[i]);
-				if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
-			}
-	}
+	if (serial && !slotNode.empty()) addNodeSums(scene, slotNode, accF, accM, anyMoment, facets.empty());
 	if (energy && n > 0) {
 		flexa::addEnergy(scene, eElastic, "flexBondElastic", elastIx, true);
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
 	}
 	if (!facets.empty()) facetForces(broken);
 	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size());
-	{ // erase the collider pairs of bonded neighbours reported by the Ig2 (see FlexCommon.hpp)
-		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
-		std::lock_guard<std::mutex> lock(np.m);
-		if (np.scene == scene && !np.pairs.empty()) {
-			for (const auto& pr : np.pairs) {
-				const shared_ptr<Interaction> I = scene->interactions->find(pr.first, pr.second);
-				if (I && !I->isReal()) scene->interactions->erase(pr.first, pr.second, I->linIx);
-			}
-			np.pairs.clear();
-		}
-	}
+	eraseNeighbourPairs(scene);
 	if (broken.empty()) return;
 	std::sort(broken.begin(), broken.end()); // same order whatever the thread count
 	for (Body::id_t id : broken) {
