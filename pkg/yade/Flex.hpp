@@ -223,6 +223,8 @@ public:
 	bool apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2);
 	/// Rolling stiffness kr of this contact (0: none; only sphere-sphere contacts roll) [N m].
 	Real rollingK(const FlexContactGeom& g, const FrictPhys& p) const;
+	/// maxOverlapRatio and maxOverlapIds (several threads: a lock only when the maximum grows)
+	void noteOverlap(Real ratio, const Interaction* I);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Law2_FlexContactGeom_FrictPhys_CundallStrack, LawFunctor,
 		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Books 'flexContactElastic', 'flexFriction' and 'flexRolling' in O.energy.",
@@ -233,6 +235,8 @@ public:
 		((long, deepEndings, 0, , "Contacts that ended while still overlapping: handed over to a neighbour element, which then starts deep (see deepOnsets) [-]"))
 		((Real, deepEndingEnergy, 0, , "Sum of 1/2 kn d^2 over the deep endings: normal spring energy that went with them [J]. deepOnsetEnergy - deepEndingEnergy is the energy the hand-overs and late contacts created: a hand-over inside a cluster passes on the same overlap, so its onset and ending cancel; a contact detected late brings energy from nothing"))
 		((Real, onsetFactor, 2, , "An onset counts as deep when its overlap exceeds onsetFactor x the approach speed x dt (the overlap one step of approach gives; 2 leaves room for the change of speed within the step) [-]"))
+		((Real, maxOverlapRatio, 0, , "Largest overlap / (refR1 + refR2) (the contact's reach) of an active contact at any step since it was last set to 0 (set it to 0 to start again) [-]"))
+		((Vector2i, maxOverlapIds, Vector2i(-1, -1), , "The two bodies of the contact of maxOverlapRatio [-]"))
 		((int, rollIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, frictIx, -1, (Attr::hidden | Attr::noSave), "energy index"))

@@ -413,6 +413,26 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, sha
 	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I, nullptr, nullptr);
 }
 
+void Law2_FlexContactGeom_FrictPhys_CundallStrack::noteOverlap(Real ratio, const Interaction* I)
+{
+	Real seen;
+#ifdef YADE_OPENMP
+#pragma omp atomic read
+#endif
+	seen = maxOverlapRatio;
+	if (ratio <= seen) return; // (almost always: the lock only when the maximum grows)
+#ifdef YADE_OPENMP
+#pragma omp critical(flexMaxOverlap)
+#endif
+	if (ratio > maxOverlapRatio) {
+		maxOverlapIds = Vector2i(I->getId1(), I->getId2());
+#ifdef YADE_OPENMP
+#pragma omp atomic write
+#endif
+		maxOverlapRatio = ratio;
+	}
+}
+
 bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2)
 {
 	const bool track = scene->trackEnergy && p.ks > 0;
@@ -440,6 +460,8 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		else
 			g.onsetDepth = 0; // a normal onset
 	}
+	const Real reach = g.refR1 + g.refR2;
+	if (reach > 0) noteOverlap(g.penetrationDepth / reach, I);
 	const Vector3r&               n     = g.normal;
 	const Vector3r                shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;

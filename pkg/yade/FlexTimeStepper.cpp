@@ -73,7 +73,10 @@ Real FlexTimeStepper::omega2Bonds() const
 			moves                      = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
 		}
 		if (!moves) continue;
-		Real scale = 1;
+		// the element's omega^2 with the nodes' actual masses, each node's mass split among its
+		// elements in proportion to their shares: at most omega2 x the largest share-to-mass ratio
+		// (Irons), below omega2 where every node is heavier than its shares (mass scaling)
+		Real scale = 0;
 		for (int k = 0; k < sh.e.nNodes; ++k) {
 			const int               nid = sh.e.nodes[k];
 			const shared_ptr<Body>& nb  = bodies[nid];
@@ -83,6 +86,9 @@ Real FlexTimeStepper::omega2Bonds() const
 			const Real I = s.inertia.minCoeff();
 			if (I > 0) scale = std::max(scale, sumI[nid] / I);
 		}
+		// nodes as heavy as their shares (up to the round-off of summing them): the element's own
+		// omega2, as computed
+		if (scale == 0 || scale > 1 - 1e-9) scale = std::max(scale, Real(1));
 		if (sh.w2 * scale > w2) {
 			w2               = sh.w2 * scale;
 			stiffestBondBody = sh.id;

@@ -387,15 +387,15 @@ class ImpactRun:
                               ring_bottom_force=ring_f["bottom"], rope_force=ring_f["rope"], broken_wires=broken["broken_wire_legs"],
                               broken_ring_segments=broken["broken_ring_segments"], broken_rope_segments=broken["broken_rope_segments"],
                               broken_lining_facets=broken["broken_lining_facets"], dt=O.dt))
-        # penalty contacts are valid while overlaps are small against the contact reach R1 + R2
-        worst, worst_i = max(((i.geom.penetrationDepth / (i.geom.refR1 + i.geom.refR2), i) for i in O.interactions
-                              if i.isReal and hasattr(i.geom, "refR1") and i.geom.refR1 + i.geom.refR2 > 0),
-                             key=lambda x: x[0], default=(0.0, None))
+        # penalty contacts are valid while overlaps are small against the contact reach R1 + R2:
+        # the law's largest overlap ratio at any step since the last record
+        worst, worst_ids = self.law.maxOverlapRatio, self.law.maxOverlapIds
+        self.law.maxOverlapRatio = 0.0
         self.max_overlap_ratio = max(self.max_overlap_ratio, worst)
         if worst > 0.5 and not self.warned:
             self.warned = True
             print(f"  WARNING t = {1e3 * (O.time - self.start):.2f} ms: a contact overlaps {100 * worst:.0f}% of its reach (sum of radii), "
-                  f"{part_name(worst_i.id1, self.names)} - {part_name(worst_i.id2, self.names)}; contact forces are no longer reliable "
+                  f"{part_name(worst_ids[0], self.names)} - {part_name(worst_ids[1], self.names)}; contact forces are no longer reliable "
                   "(stiffer contacts: --fill-young, --steel-contact-young, or a gentler impact)", flush=True)
         e = {k: O.energy[k] for k in O.energy.keys()}
         e["t"] = O.time - self.start
