@@ -62,22 +62,11 @@ rows = []
 
 def record(c, t0, z0):
     grains = [g for g in ids["grains"] if O.bodies[g] is not None]
-    gs, lin = set(grains), set(ids["lining"])
     mass = sum(O.bodies[g].state.mass for g in grains)
     ke = sum(0.5 * O.bodies[g].state.mass * O.bodies[g].state.vel.squaredNorm() for g in grains)
     zc = sum(O.bodies[g].state.pos[2] * O.bodies[g].state.mass for g in grains) / mass
-    gg = gl = 0
-    fl = 0.0
-    for i in O.interactions:
-        if not i.isReal:
-            continue
-        if i.id1 in gs and i.id2 in gs:
-            gg += 1
-        elif (i.id1 in gs and i.id2 in lin) or (i.id2 in gs and i.id1 in lin):
-            if hasattr(i.geom, "active") and not i.geom.active:
-                continue
-            gl += 1
-            fl += i.phys.normalForce.norm()
+    c = module.fill_contacts(ids)
+    gg, gl, fl = c["grain_grain"], c["grain_lining"], c["grain_lining_force"]
     rl = max(math.hypot(O.bodies[n].state.pos[0], O.bodies[n].state.pos[1]) for n in ids["lining_nodes"])
     return dict(damping=c, steps=O.iter - t0[0], time_ms=(O.time - t0[1]) * 1e3, kinetic_J=ke, com_drop_mm=(z0 - zc) * 1e3,
                 unbalanced=utils.unbalancedForce() if O.iter > t0[0] else float("nan"), coordination=2.0 * gg / len(grains),

@@ -3,16 +3,17 @@ granular fill on a rigid slab, hit by a boulder. One builder with typed, unit-an
 parameters, used by the main job (scripts/damping_module.py), the tests and parametric studies.
 
 Stages
-  1. fill: grains are dropped into a rigid, frictionless cylindrical container of the
-     lining's radius (grains only: a long time step) and settled under gravity, first without
-     friction or rolling resistance (so that they pack densely, as a compacted fill), then with
-     them; grains above the module's height are removed. (Settled with their friction from the
-     start, the grains froze in a loose packing, 0.40 solid fraction and 2.3 contacts per grain,
-     that kept collapsing during the impact: bench/fill_equilibrium.py);
+  1. fill: grains placed on a close-packed lattice in a rigid, frictionless cylindrical
+     container of the lining's radius (grains only: a long time step) settle under gravity,
+     first without friction or rolling resistance (so that they pack densely, as a compacted
+     fill), then with them; grains above the module's height are removed. (Settled with their
+     friction from the start, the grains froze in a loose packing, 0.40 solid fraction and 2.3
+     contacts per grain, that kept collapsing during the impact: bench/fill_equilibrium.py);
   2. structure: the mesh, rings and lining are built around the settled fill, the rigid
-     container removed, and the whole settled again (with the structure's time step) until it
-     is at rest and in equilibrium (unbalanced force too): the fill, released by the container,
-     spreads out onto the lining and ends bearing on it;
+     container removed, and the whole settled again until it is at rest and in equilibrium
+     (unbalanced force too): the fill, released by the container, spreads out onto the lining
+     and ends bearing on it. The structure's nodes are made heavier meanwhile (their weight
+     kept), so that this quasi-static settle runs at the grains' time step, not the wires';
   3. impact: the boulder is placed just above the fill with the free-fall velocity of its
      drop height, and the run starts without numerical damping unless asked.
 Stages 1-2 are cached (O.save) under a key made of every parameter they depend on, so impacts
@@ -36,7 +37,7 @@ import tempfile
 
 from yade import O
 from yade.minieigenHP import Vector3, Quaternion
-from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, FlexFacet
+from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, FlexFacet, NewtonIntegrator
 
 from . import builders as B
 from . import checks as C
@@ -53,6 +54,12 @@ UNBALANCED_TOL = 0.05
 # damping, so it is not tied to the impact's ModuleParams.timestep_safety, and hitting one fill
 # at several steps (convergence checks) loads the same cached fill
 FILL_TIMESTEP_SAFETY = 1.0
+# largest mass scaling of the structure's nodes while it settles on the fill (_heavier_nodes)
+MAX_NODE_MASS_SCALING = 100.0
+# the grains are placed on a hexagonal close-packed lattice (spacing 2.05 grain_max: solid
+# fraction about 0.33 with the gravel's sizes) up to this x the module's height: about 1.2 x the
+# grains a dense fill of the module's height holds, the rest trimmed
+PLACED_HEIGHT = 2.4
 
 # Fill presets: grain size range [m] (the simulated size; real sand is far too fine for a
 # sphere-per-grain model and is represented by coarser grains with its bulk properties),
@@ -197,7 +204,7 @@ class ModuleParams:
         a = 1.025 * p["grain_max"]  # lattice spacing of settle_fill
         r_lin, r_in = fill_radii(self)
         side = 2 * max(0.0, r_in - 0.5 * p["grain_max"]) / a + 1
-        grains = 3.4 * self.height / a * side * side
+        grains = PLACED_HEIGHT * math.sqrt(2.0) * self.height / a * side * side  # the close-packed lattice: sqrt(2) x a cubic one's count
         up, around = self.height / (0.5 * TECCO_G65_DX) + 1, math.pi * self.diameter / (0.5 * TECCO_G65_DY) + 1
         mesh = 1.5 * up * around + 2 * around  # nodes, legs, rings
         cells = (2 * math.pi * max(r_lin, 0.0) / 0.08 + 1) * (self.height / 0.08 + 2)
@@ -255,7 +262,7 @@ class ModuleParams:
             d.pop(k)
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 13  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too
+        d["_version"] = 14  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling
         if self.with_rope():
             d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
@@ -286,6 +293,22 @@ def _sphere_body(center, radius, mat):
     return O.bodies.append(b)
 
 
+def _placement(r, z0, z1, a):
+    """Centres of a hexagonal close-packed lattice of spacing a (layers ABAB) inside the
+    vertical cylinder of radius r about the axis, from z0 up to z1."""
+    dz, dy = a * math.sqrt(2.0 / 3.0), a * math.sqrt(3.0) / 2
+    m = int(r / a) + 2
+    out = []
+    for k in range(int((z1 - z0) / dz) + 1):
+        ox, oy = (0.5 * a, a / (2 * math.sqrt(3.0))) if k % 2 else (0.0, 0.0)
+        for j in range(-m, m + 1):
+            for i in range(-m, m + 1):
+                x, y = i * a + (0.5 * a if j % 2 else 0.0) + ox, j * dy + oy
+                if math.hypot(x, y) <= r:
+                    out.append((x, y, z0 + k * dz))
+    return out
+
+
 def _container(radius, height, n=48, center=(0.0, 0.0)):
     """Rigid frictionless cylinder of YADE facets (only while the grains settle)."""
     from yade import geom
@@ -305,8 +328,7 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
     steps = 0
     ubf = float("nan")
     while steps < max_steps:
-        for _ in range(chunk):
-            O.step()
+        O.run(chunk, True)
         steps += chunk
         ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and isinstance(b.shape, Sphere))
         if progress:
@@ -319,6 +341,46 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
                 return steps
     raise RuntimeError(f"the fill did not settle in {max_steps} steps (kinetic energy {ke:.3g} J, limit {ke_tol:.3g} J"
                        + (f"; unbalanced force {ubf:.3g}, limit {unbalanced_tol:.3g})" if unbalanced_tol is not None else ")"))
+
+
+def _relayout():
+    """Save O to memory and load it back: the bodies and interactions, created in the order the
+    grains met while they fell, come back side by side in memory, in the order the loops visit
+    them (the steps that follow wait less on memory)."""
+    O.saveTmp("yadeflex_fill")
+    O.loadTmp("yadeflex_fill")
+
+
+def _heavier_nodes(factor):
+    """Mass scaling for a quasi-static settle: the dynamic FlexNodes' mass and rotational inertia
+    x factor (>= 1), their weight held at m g by a permanent force (factor - 1) m g upwards. The
+    static equilibrium is the same; FlexTimeStepper's step for the elements grows as
+    sqrt(factor). Returns what _restore_nodes needs."""
+    if factor <= 1.0:
+        return []
+    g = next(e for e in O.engines if isinstance(e, NewtonIntegrator)).gravity
+    out = []
+    for b in O.bodies:
+        if b is not None and isinstance(b.shape, FlexNode) and b.dynamic:
+            m, inertia = b.state.mass, Vector3(b.state.inertia)
+            out.append((b.id, m, inertia))
+            b.state.mass = m * factor
+            b.state.inertia = inertia * factor
+            O.forces.setPermF(b.id, -(factor - 1.0) * m * g)
+    return out
+
+
+def _restore_nodes(heavier):
+    """Undo _heavier_nodes: the nodes' own mass and inertia, no permanent force, everything at rest."""
+    for bid, m, inertia in heavier:
+        b = O.bodies[bid]
+        b.state.mass, b.state.inertia = m, inertia
+    if heavier:
+        O.forces.reset()
+    for b in O.bodies:
+        if b is not None and b.dynamic:
+            b.state.vel = Vector3(0, 0, 0)
+            b.state.angVel = Vector3(0, 0, 0)
 
 
 def lining_cells_around(r_lin):
@@ -342,11 +404,11 @@ def fill_radii(params):
 
 
 def settle_fill(params, r_in, rnd, progress=None):
-    """Stage 1 on an empty O: grains on a loose cubic lattice up to 3.4 H (solid fraction about
-    0.2: enough for a dense fill above H) in a rigid frictionless container of radius r_in on a
-    wall at z = 0, settled frictionless, then with friction (until at rest: kinetic energy and
-    unbalanced force), trimmed to the height and the container removed. Returns (wall id, grain
-    ids, the kinetic-energy tolerance used)."""
+    """Stage 1 on an empty O: grains on a close-packed lattice up to PLACED_HEIGHT x H (solid
+    fraction about 0.33: enough for a dense fill above H) in a rigid frictionless container of
+    radius r_in on a wall at z = 0, settled frictionless, then with friction (until at rest:
+    kinetic energy and unbalanced force), trimmed to the height and the container removed.
+    Returns (wall id, grain ids, the kinetic-energy tolerance used)."""
     p = params.preset()
     H = params.height
     gmat = _grain_material(p)
@@ -355,18 +417,11 @@ def settle_fill(params, r_in, rnd, progress=None):
     rmax = 0.5 * p["grain_max"]
     a = 2.05 * rmax
     grains = []
-    nlay = int(3.4 * H / a)
     for cx, cy in params.centers():
         _container(r_in, 3.6 * H, center=(cx, cy))
-        for k in range(nlay):
-            z = rmax * 1.05 + k * a
-            m = int((r_in - rmax) / a)
-            for i in range(-m, m + 1):
-                for j in range(-m, m + 1):
-                    x, y = i * a + (0.25 * a if k % 2 else 0), j * a
-                    if math.hypot(x, y) <= r_in - 1.05 * rmax:
-                        rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
-                        grains.append(_sphere_body(Vector3(cx + x, cy + y, z), rad, gmat))
+        for pos in _placement(r_in - 1.05 * rmax, rmax * 1.05, PLACED_HEIGHT * H, a):
+            rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
+            grains.append(_sphere_body(Vector3(cx + pos[0], cy + pos[1], pos[2]), rad, gmat))
     # densification: no friction, no rolling resistance (a standard DEM filling procedure)
     phi = gmat.frictionAngle
     gmat.frictionAngle = 0.0
@@ -374,7 +429,7 @@ def settle_fill(params, r_in, rnd, progress=None):
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
     if progress:  # the count of grains sets the time a step takes
-        progress(f"fill, dense ({len(grains)} grains placed, {int(3.4 * H / a)} layers)", 0, float("nan"), ke_tol)
+        progress(f"fill, dense ({len(grains)} grains placed)", 0, float("nan"), ke_tol)
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, dense", s, ke, tol)))
     # then the fill's own friction and rolling resistance, on the existing contacts too (as
     # Ip2_FrictMat_FrictMat_FrictPhys sets it: the smaller angle of the two materials, so the
@@ -453,7 +508,17 @@ def build_filled(params, progress=None):
     # unbalanced force holds it until the fill bears on the lining.
     if progress:
         progress("structure (mesh, rings, lining) on the fill", 0, float("nan"), 10 * ke_tol)
+    _relayout()
+    # the grains alone ran at dt_fill; the structure's light nodes shorten the step: heavier
+    # nodes (their weight kept) settle to the same equilibrium at the grains' step
+    dt_fill = O.dt
+    # every bound swept by the collider's full distance: at the grains' step, the adaptive sweep
+    # of slow bodies (InsertionSortCollider.targetInterv) re-ran the collider every third step
+    next(e for e in O.engines if e.label == "collider").targetInterv = -1
+    O.step()
+    heavier = _heavier_nodes(min(MAX_NODE_MASS_SCALING, (dt_fill / O.dt) ** 2))
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke, tol: progress("structure", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
+    _restore_nodes(heavier)
     ids = dict(per[0], wall=wall, grains=grains, modules=per, rope=rope["cylinders"], rope_nodes=rope["nodes"],
                base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
     O.tags["yadeflex_module"] = json.dumps(ids)
@@ -555,10 +620,30 @@ def filled_module(params, cache_dir=None, progress=None):
             os.chmod(tmp, 0o644)  # mkstemp makes it 0600
             os.replace(tmp, f)
             write_json(meta_file, meta)
+            # go on from the file, as every later run will: the same state to the last bit, and
+            # the bodies and interactions in order in memory
+            O.load(f)
+            O.engines = params.engines(params.damping)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-    return json.loads(O.tags["yadeflex_module"]), f, False  # as a load returns it (lists, not tuples)
+    return json.loads(O.tags["yadeflex_module"]), f, False
+
+
+def fill_contacts(ids):
+    """The filled module's active contacts: dict of grain_grain (count), grain_lining (count) and
+    grain_lining_force (their total normal force [N])."""
+    gs, lining = set(g for g in ids["grains"] if O.bodies[g] is not None), set(ids["lining"])
+    out = dict(grain_grain=0, grain_lining=0, grain_lining_force=0.0)
+    for i in O.interactions:
+        if not i.isReal or (hasattr(i.geom, "active") and not i.geom.active):
+            continue
+        if i.id1 in gs and i.id2 in gs:
+            out["grain_grain"] += 1
+        elif (i.id1 in gs and i.id2 in lining) or (i.id2 in gs and i.id1 in lining):
+            out["grain_lining"] += 1
+            out["grain_lining_force"] += i.phys.normalForce.norm()
+    return out
 
 
 def fill_top(ids):
