@@ -27,10 +27,27 @@ assert O.numThreads == 1, "in-process YADE tests must run with one OpenMP thread
 
 
 @pytest.fixture(scope="session")
-def module_cache(tmp_path_factory):
+def module_cache(tmp_path_factory, request):
     """The folder of the filled modules the tests load (filled on first use, then loaded from
-    there): a temporary one, never the user's cache."""
-    return str(tmp_path_factory.mktemp("module_cache"))
+    there): a temporary one, never the user's cache. Under pytest-xdist (scripts/test runs two
+    workers) the workers share one: the cache's lock makes the second wait for a module the
+    first is filling, then load it."""
+    if not hasattr(request.config, "workerinput"):  # not an xdist worker
+        return str(tmp_path_factory.mktemp("module_cache"))
+    shared = tmp_path_factory.getbasetemp().parent / "module_cache"  # the session's folder, above each worker's
+    shared.mkdir(exist_ok=True)
+    return str(shared)
+
+
+# the test files that take longest (their share of a whole run), started first so that two
+# workers end together; the others follow in their order
+LONGEST_FIRST = ("test_study.py", "test_contact.py", "test_module.py", "test_timestep.py", "test_module_runs.py", "test_validation.py",
+                 "test_stability.py", "test_tensile.py", "test_facet.py", "test_paraview.py", "test_threads.py")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda it: rank.get(os.path.basename(str(it.fspath)), len(rank)))  # (stable: each file keeps its order)
 
 
 @pytest.fixture

@@ -4,7 +4,7 @@
         os.environ.update(slurm.env)     # SLURM_CONF for sbatch, squeue, sacct
         ...
 
-Everything lives in `folder`: a fresh munge key and socket, slurm.conf (one node: this host with
+Everything lives in `folder` (but the daemons' sockets, in a short folder under /tmp): a fresh munge key and socket, slurm.conf (one node: this host with
 its cores, one partition "test"), state, spool and logs; the daemons use free TCP ports on
 localhost and are stopped (by their pid files) on exit. unavailable() says why it cannot start
 (not root, Debian's slurm-wlm or munge missing), else None.
@@ -14,6 +14,7 @@ import shutil
 import signal
 import socket
 import subprocess
+import tempfile
 import time
 
 DAEMONS = ("munged", "slurmctld", "slurmd")
@@ -46,13 +47,16 @@ class LocalSlurm:
         self.conf = os.path.join(self.folder, "slurm.conf")
         self.env = dict(SLURM_CONF=self.conf)
         self.pids = {d: os.path.join(self.folder, f"{d}.pid") for d in DAEMONS}
+        # the daemons' Unix sockets (the spool's, munge's) need a path of at most 107 bytes: a
+        # short folder of their own, whatever folder's depth (pytest-xdist's workers add a level)
+        self.sockets = None
 
     def _conf(self, sock):
         d, host = self.folder, socket.gethostname()
         return "\n".join([
             "ClusterName=yadeflextest", "SlurmctldHost=localhost", f"SlurmctldPort={_free_port()}", f"SlurmdPort={_free_port()}",
             "AuthType=auth/munge", "CredType=cred/munge", f"AuthInfo=socket={sock}", "SlurmUser=root", "SlurmdUser=root",
-            f"StateSaveLocation={d}/state", f"SlurmdSpoolDir={d}/spool", f"SlurmctldPidFile={self.pids['slurmctld']}",
+            f"StateSaveLocation={d}/state", f"SlurmdSpoolDir={self.sockets}/spool", f"SlurmctldPidFile={self.pids['slurmctld']}",
             f"SlurmdPidFile={self.pids['slurmd']}", f"SlurmctldLogFile={d}/slurmctld.log", f"SlurmdLogFile={d}/slurmd.log",
             "ProctrackType=proctrack/pgid", "TaskPlugin=task/none", "SwitchType=switch/none", "MpiDefault=none",
             "SchedulerType=sched/builtin", "SelectType=select/cons_tres", "SelectTypeParameters=CR_Core", "ReturnToService=2",
@@ -65,14 +69,16 @@ class LocalSlurm:
         why = unavailable()
         if why:
             raise RuntimeError(why)
-        for sub in ("state", "spool"):
-            os.makedirs(os.path.join(self.folder, sub), exist_ok=True)
+        self.sockets = tempfile.mkdtemp(prefix="yfslurm-", dir="/tmp")
+        os.makedirs(os.path.join(self.folder, "state"), exist_ok=True)
+        os.makedirs(os.path.join(self.sockets, "spool"), exist_ok=True)
         os.chmod(self.folder, 0o755)  # munged wants its socket's folder searchable by all
+        os.chmod(self.sockets, 0o755)
         key = os.path.join(self.folder, "munge.key")
         with open(key, "wb") as fh:
             fh.write(os.urandom(1024))
         os.chmod(key, 0o600)
-        sock = os.path.join(self.folder, "munge.sock")
+        sock = os.path.join(self.sockets, "munge.sock")
         subprocess.run([_exe("munged"), "--force", f"--key-file={key}", f"--socket={sock}", f"--pid-file={self.pids['munged']}",
                         f"--log-file={self.folder}/munged.log", f"--seed-file={self.folder}/munged.seed"], check=True, timeout=30)
         with open(self.conf, "w") as fh:
@@ -103,6 +109,8 @@ class LocalSlurm:
                 except OSError:
                     break
                 time.sleep(0.1)
+        if self.sockets:
+            shutil.rmtree(self.sockets, ignore_errors=True)
 
     def __enter__(self):
         return self.start()
