@@ -41,8 +41,14 @@ def _cantilever(rows):
     return [dict(load=k[0], segments=str(k[1]), builtin=by[k]["builtin"]["ratio"], flex=by[k]["flex"]["ratio"]) for k in order]
 
 
+def _time_to_result(rows):
+    return [dict(r, speedup=float(r["before_s"]) / float(r["after_s"])) for r in rows]
+
+
 # name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
 TABLES = {
+    "time_to_result": dict(csv="time_to_result.csv", rows=_time_to_result, columns=[
+        ("stage", "stage", text), ("before [s]", "before_s", fixed(1)), ("after [s]", "after_s", fixed(1)), ("speed-up", "speedup", times(2))]),
     "cylinders_timing": dict(csv="cylinders_timing.csv", columns=[
         ("scene", "scene", scene), ("-j", "threads", text), ("built-in µs/step", "builtin_us_per_step", fixed(1)),
         ("yade-flex µs/step", "flex_us_per_step", fixed(1)), ("per step", "speedup_per_step", times(2)),
