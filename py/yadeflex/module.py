@@ -328,7 +328,8 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
     steps = 0
     ubf = float("nan")
     while steps < max_steps:
-        O.run(chunk, True)
+        for _ in range(chunk):
+            O.step()
         steps += chunk
         ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and isinstance(b.shape, Sphere))
         if progress:

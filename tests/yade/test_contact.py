@@ -265,3 +265,23 @@ def test_contacts_reached_by_motion_start_within_one_step_and_hand_overs_cancel(
     assert (law.deepOnsets, law.deepEndings) == (1, 1)
     # the same overlap up to its change in one step (here none: sliding along a straight wire)
     assert_rel(law.deepOnsetEnergy, law.deepEndingEnergy, 1e-4, "a hand-over passes on its spring energy")
+
+
+def test_the_law_keeps_the_largest_overlap_ratio_of_any_step(scene):
+    # a sphere placed into a wire: the largest overlap / reach (R + r) is the placed overlap, with
+    # the two bodies; set to 0 it starts again from the current step
+    r, R, delta = 0.005, 0.02, 2e-4
+    nodes, _ = _clamped_chain([(-0.2, 0, 0), (0.2, 0, 0)], r, yf.steel(friction_deg=0))
+    s = sphere((0.03, 0, R + r - delta), R, young=1e9, friction_deg=0)
+    _prescribe(s)
+    O.engines = yf.engines(gravity=(0, 0, 0))
+    O.dt = 1e-8
+    O.step()
+    law, (c,) = yf.contact_law(), _active(s)
+    assert_rel(law.maxOverlapRatio, delta / (R + r), 1e-9, "largest overlap ratio")
+    assert_rel(law.maxOverlapRatio, c.geom.penetrationDepth / (c.geom.refR1 + c.geom.refR2), 1e-12, "the contact's own")
+    assert sorted(law.maxOverlapIds) == sorted((c.id1, c.id2))
+    O.bodies[s].state.pos = O.bodies[s].state.pos + Vector3(0, 0, 0.5 * delta)  # half the overlap
+    law.maxOverlapRatio = 0.0
+    O.step()
+    assert_rel(law.maxOverlapRatio, 0.5 * delta / (R + r), 1e-6, "after a reset: this step's")

@@ -36,3 +36,26 @@ def test_fill_is_dense(scene):
     gs = set(grains)
     gg = sum(1 for i in O.interactions if i.isReal and i.id1 in gs and i.id2 in gs)
     assert 2 * gg / len(grains) > 3.5, 2 * gg / len(grains)
+
+
+def test_heavier_nodes_settle_to_the_same_equilibrium_and_are_restored(scene):
+    """The structure's settle with mass scaling (yadeflex.module._heavier_nodes): a cantilever
+    under its own weight, its nodes 50 x heavier with their weight held at m g, settles to the
+    deflection it settles to with its own masses; the masses, inertias and forces come back."""
+    from yadeflex import scenes as S
+    from yadeflex.module import _heavier_nodes, _restore_nodes
+
+    def tip_deflection(factor):
+        s = S.cantilever(segments=4, load="self")
+        mass = {n: (O.bodies[n].state.mass, tuple(O.bodies[n].state.inertia)) for n in s["nodes"]}
+        heavier = _heavier_nodes(factor)
+        assert len(heavier) == (len(s["nodes"]) - 1 if factor > 1 else 0)  # the clamped node is not dynamic
+        S.settle([s["tip"]], rel_tol=1e-7)
+        _restore_nodes(heavier)
+        assert {n: (O.bodies[n].state.mass, tuple(O.bodies[n].state.inertia)) for n in s["nodes"]} == mass
+        assert not O.forces.getPermForceUsed()
+        return -O.bodies[s["tip"]].state.pos[2]
+
+    own, heavy = tip_deflection(1.0), tip_deflection(50.0)
+    assert own > 0
+    assert abs(heavy - own) <= 1e-5 * own, (heavy, own)

@@ -395,3 +395,19 @@ def test_bouncing_bar_conserves_energy(scene, safety, interval):
     assert worst < 0.01 * e_in, f"energy residual {worst / e_in:.3%} of the drop energy"
     if safety == 0.5:
         assert booked < 0.01 * e_in, f"booked energy residual {booked / e_in:.3%} of the drop energy"
+
+
+def test_heavier_nodes_lengthen_the_bond_step_as_the_root_of_their_mass(scene):
+    # the bar of test_axial_chain_bound_is_exact_for_a_single_bar with both nodes f times heavier
+    # (mass scaling): omega^2 = 2 k / (f m_h); with one node heavier only, the other still bounds it
+    E, rho, r, L, f = 200e9, 7850.0, 0.002, 0.1, 30.0
+    nodes, _ = yf.chain([(0, 0, 0), (L, 0, 0)], r, yf.steel(bending_factor=1e-9))
+    A = math.pi * r * r
+    k, mh = E * A / L, rho * A * L / 2
+    st = [O.bodies[n].state for n in nodes]
+    st[0].mass *= f
+    st[0].inertia = st[0].inertia * f
+    assert_rel(yf.critical_timestep(), 2 / math.sqrt(2 * k / mh), 1e-9, "one node heavier")
+    st[1].mass *= f
+    st[1].inertia = st[1].inertia * f
+    assert_rel(yf.critical_timestep(), 2 / math.sqrt(2 * k / (f * mh)), 1e-9, "both nodes heavier")
