@@ -219,16 +219,23 @@ def test_contact_is_not_suppressed_by_a_wire_bonded_to_the_partner(scene, delta)
     assert_rel(fz, kn * delta, 1e-6, "S pushed off P by kn x overlap")
 
 
-def test_contact_starting_overlapped_is_counted_with_its_spring_energy(scene):
-    # a sphere placed into a wire: its contact starts at the full overlap, 1/2 kn delta^2 from nothing
-    r, R, delta = 0.005, 0.02, 2e-4
+def _sphere_placed_into_a_wire(r, R, delta):
+    """A sphere of radius R held still, placed delta deep into a clamped wire of radius r, after
+    one step: (sphere id, the contact law, the contact)."""
     _clamped_chain([(-0.2, 0, 0), (0.2, 0, 0)], r, yf.steel(friction_deg=0))
     s = sphere((0.03, 0, R + r - delta), R, young=1e9, friction_deg=0)
     _prescribe(s)
     O.engines = yf.engines(gravity=(0, 0, 0))
     O.dt = 1e-8
     O.step()
-    law, (c,) = yf.contact_law(), _active(s)
+    (c,) = _active(s)
+    return s, yf.contact_law(), c
+
+
+def test_contact_starting_overlapped_is_counted_with_its_spring_energy(scene):
+    # a sphere placed into a wire: its contact starts at the full overlap, 1/2 kn delta^2 from nothing
+    r, R, delta = 0.005, 0.02, 2e-4
+    s, law, c = _sphere_placed_into_a_wire(r, R, delta)
     assert law.deepOnsets == 1
     assert_rel(law.deepOnsetEnergy, 0.5 * c.phys.kn * delta ** 2, 1e-9, "onset energy")
     assert_rel(c.geom.onsetDepth, delta, 1e-9, "onset depth")
@@ -271,13 +278,7 @@ def test_the_law_keeps_the_largest_overlap_ratio_of_any_step(scene):
     # a sphere placed into a wire: the largest overlap / reach (R + r) is the placed overlap, with
     # the two bodies; set to 0 it starts again from the current step
     r, R, delta = 0.005, 0.02, 2e-4
-    nodes, _ = _clamped_chain([(-0.2, 0, 0), (0.2, 0, 0)], r, yf.steel(friction_deg=0))
-    s = sphere((0.03, 0, R + r - delta), R, young=1e9, friction_deg=0)
-    _prescribe(s)
-    O.engines = yf.engines(gravity=(0, 0, 0))
-    O.dt = 1e-8
-    O.step()
-    law, (c,) = yf.contact_law(), _active(s)
+    s, law, c = _sphere_placed_into_a_wire(r, R, delta)
     assert_rel(law.maxOverlapRatio, delta / (R + r), 1e-9, "largest overlap ratio")
     assert_rel(law.maxOverlapRatio, c.geom.penetrationDepth / (c.geom.refR1 + c.geom.refR2), 1e-12, "the contact's own")
     assert sorted(law.maxOverlapIds) == sorted((c.id1, c.id2))
