@@ -65,8 +65,8 @@ def record(c, t0, z0):
     mass = sum(O.bodies[g].state.mass for g in grains)
     ke = sum(0.5 * O.bodies[g].state.mass * O.bodies[g].state.vel.squaredNorm() for g in grains)
     zc = sum(O.bodies[g].state.pos[2] * O.bodies[g].state.mass for g in grains) / mass
-    c = module.fill_contacts(ids)
-    gg, gl, fl = c["grain_grain"], c["grain_lining"], c["grain_lining_force"]
+    fc = module.fill_contacts(ids)
+    gg, gl, fl = fc["grain_grain"], fc["grain_lining"], fc["grain_lining_force"]
     rl = max(math.hypot(O.bodies[n].state.pos[0], O.bodies[n].state.pos[1]) for n in ids["lining_nodes"])
     return dict(damping=c, steps=O.iter - t0[0], time_ms=(O.time - t0[1]) * 1e3, kinetic_J=ke, com_drop_mm=(z0 - zc) * 1e3,
                 unbalanced=utils.unbalancedForce() if O.iter > t0[0] else float("nan"), coordination=2.0 * gg / len(grains),

@@ -514,7 +514,7 @@ def build_filled(params, progress=None):
     # nodes (their weight kept) settle to the same equilibrium at the grains' step
     dt_fill = O.dt
     # every bound swept by the collider's full distance: at the grains' step, the adaptive sweep
-    # of slow bodies (InsertionSortCollider.targetInterv) re-ran the collider every third step
+    # of slow bodies (InsertionSortCollider.targetInterv) re-ran the collider on many steps
     next(e for e in O.engines if e.label == "collider").targetInterv = -1
     O.step()
     heavier = _heavier_nodes(min(MAX_NODE_MASS_SCALING, (dt_fill / O.dt) ** 2))
