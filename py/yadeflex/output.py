@@ -68,7 +68,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from yade import O
-from yade.wrapper import Box, Clump, Facet, FlexCylinder, FlexFacet, FlexNode, PyRunner, Sphere
+from yade.wrapper import FlexCylinder, FlexFacet, FlexSnapshot, PyRunner, Sphere
 
 from . import parts as P
 from .files import clear_matching, write_atomic
@@ -143,41 +143,85 @@ def _grid(vtk, points, cell_type, conn, nper, point_data=(), cell_data=()):
     return ug
 
 
-class _Frame:
-    """What the builders of one frame share: parts (body id -> part id, yadeflex.parts), the
-    broken elements to draw (group -> [(id, node ids, {field: value}, part id)]) and the memory
-    of the group's elements drawn ({id: (node ids, {field: value}, part id)}, filled if not None)."""
+# FlexSnapshot's group codes: a body group's position in GROUPS + 1, walls 8 (no group; part slab)
+_GROUP_CODE = {g: k + 1 for k, g in enumerate(GROUPS[:-1])}
+_WALL_CODE = len(GROUPS)
 
-    def __init__(self, parts=None, broken=None, memory=None):
-        self.parts = P.scene_parts() if parts is None else parts
+
+def _arrays(raw, spec):
+    """numpy views of FlexSnapshot's bytes: spec name -> (dtype, components)."""
+    return {k: np.frombuffer(raw[k], dtype=dt).reshape(-1, c) if c > 1 else np.frombuffer(raw[k], dtype=dt)
+            for k, (dt, c) in spec.items()}
+
+
+_BODY_FIELDS = dict(group=(np.int64, 1), clumped=(np.int64, 1), pos=(np.float64, 3), vel=(np.float64, 3), angVel=(np.float64, 3),
+                    mass=(np.float64, 1), radius=(np.float64, 1), blocked=(np.int64, 1))
+_CONTACT_FIELDS = dict(id1=(np.int64, 1), id2=(np.int64, 1), end1=(np.float64, 3), end2=(np.float64, 3), contactPoint=(np.float64, 3),
+                       normal=(np.float64, 3), normalForce=(np.float64, 3), shearForce=(np.float64, 3), penetrationDepth=(np.float64, 1))
+
+
+class _Snapshot:
+    """The scene's bodies (and, on first use, its contacts) as numpy arrays in id order, read in
+    one pass each by FlexSnapshot."""
+
+    def __init__(self):
+        self._reader = FlexSnapshot()
+        self.b = _arrays(self._reader.bodies(), _BODY_FIELDS)
+        self._contacts = None
+
+    def ids(self, group):
+        """Ids of the bodies of a body group, ascending."""
+        return np.flatnonzero(self.b["group"] == _GROUP_CODE[group])
+
+    def contacts(self):
+        if self._contacts is None:
+            self._contacts = _arrays(self._reader.contacts(), _CONTACT_FIELDS)
+        return self._contacts
+
+    def parts(self, table):
+        """Part id of every body slot (yadeflex.parts.part_of, at once): table's, else boulder for
+        clumps and their members, grain for spheres, slab for walls, other."""
+        g = self.b["group"]
+        out = np.full(len(g), P.PART["other"], dtype=np.int64)
+        out[g == _GROUP_CODE["spheres"]] = P.PART["grain"]
+        out[g == _WALL_CODE] = P.PART["slab"]
+        out[self.b["clumped"] == 1] = P.PART["boulder"]
+        if table:
+            ids = np.fromiter(table.keys(), dtype=np.int64, count=len(table))
+            vals = np.fromiter(table.values(), dtype=np.int64, count=len(table))
+            inside = (ids >= 0) & (ids < len(g))
+            out[ids[inside]] = vals[inside]
+        return out
+
+
+class _Frame:
+    """What the builders of one frame share: the snapshot of the scene, the part id of every body
+    (from parts: body id -> part id, yadeflex.parts), the broken elements to draw (group -> [(id,
+    node ids, {field: value}, part id)]) and the memory of the group's elements drawn ({id: (node
+    ids, {field: value}, part id)}, filled if not None)."""
+
+    def __init__(self, snap, parts=None, broken=None, memory=None):
+        self.snap = snap
+        self.part_ids = snap.parts(P.scene_parts() if parts is None else parts)
         self.broken = broken or {}
         self.memory = memory
 
     def part(self, b):
-        return P.part_of(b, self.parts)
+        return int(self.part_ids[b.id])
 
 
-def _v3(v):
-    """(x, y, z) of a Vector3 (tuple(v) would end its iteration on an IndexError: slower)."""
-    return (v[0], v[1], v[2])
+def _norms(v):
+    return np.sqrt(np.einsum("ij,ij->i", v, v))
 
 
-def _norm(v):
-    return math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
-
-
-def _particles(vtk, bodies, fr):
-    """Nodes or spheres: one vertex each, data on the points."""
-    rows = []
-    for b in bodies:  # one pass: each attribute read once
-        st = b.state
-        v = st.vel
-        rows.append((_v3(st.pos), b.id, fr.part(b), b.shape.radius, st.mass, _v3(v), _norm(v), _v3(st.angVel),
-                     len(st.blockedDOFs)))
-    col = list(zip(*rows)) if rows else [()] * 9
-    return _grid(vtk, col[0], _VTK_VERTEX, range(len(rows)), 1, point_data=[
-        ("id", col[1], 1), ("part", col[2], 1), ("radius", col[3], 1), ("mass", col[4], 1), ("velocity", col[5], 3),
-        ("speed", col[6], 1), ("angularVelocity", col[7], 3), ("blockedDOFs", col[8], 1)])
+def _particles(vtk, ids, fr):
+    """Nodes or spheres (ids, ascending): one vertex each, data on the points."""
+    ids = np.asarray(ids, dtype=np.int64)
+    b = fr.snap.b
+    vel = b["vel"][ids]
+    return _grid(vtk, b["pos"][ids], _VTK_VERTEX, np.arange(len(ids)), 1, point_data=[
+        ("id", ids, 1), ("part", fr.part_ids[ids], 1), ("radius", b["radius"][ids], 1), ("mass", b["mass"][ids], 1),
+        ("velocity", vel, 3), ("speed", _norms(vel), 1), ("angularVelocity", b["angVel"][ids], 3), ("blockedDOFs", b["blocked"][ids], 1)])
 
 
 def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
@@ -190,19 +234,30 @@ def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
             for b in bodies]
     if fr.memory is not None:
         fr.memory.update({i: (ns, vals, part) for i, ns, vals, part in live})
+    gone = fr.snap.b["group"] < 0
     dead = [(i, ns, dict(vals, **{f: 0.0 for f in _LOAD_FIELDS if f in vals}), part) for i, ns, vals, part in fr.broken.get(group, ())
-            if all(0 <= n < len(O.bodies) and O.bodies[n] is not None for n in ns)]
+            if all(0 <= n < len(gone) and not gone[n] for n in ns)]
     rows = live + dead
     for _, ns, _, _ in rows:
         for i in ns:
             if i not in index:
                 index[i] = len(nodes)
-                nodes.append(O.bodies[i])
+                nodes.append(i)
             conn.append(index[i])
-    return _grid(vtk, [_v3(nb.state.pos) for nb in nodes], cell_type, conn, len(node_attrs),
-                 point_data=[("id", [nb.id for nb in nodes], 1), ("velocity", [_v3(nb.state.vel) for nb in nodes], 3)],
+    nodes = np.asarray(nodes, dtype=np.int64)
+    return _grid(vtk, fr.snap.b["pos"][nodes], cell_type, conn, len(node_attrs),
+                 point_data=[("id", nodes, 1), ("velocity", fr.snap.b["vel"][nodes], 3)],
                  cell_data=[("id", [r[0] for r in rows], 1), ("part", [r[3] for r in rows], 1),
                             ("broken", [0] * len(live) + [1] * len(dead), 1)] + [(f, [r[2][f] for r in rows], 1) for f in fields])
+
+
+def _v3(v):
+    """(x, y, z) of a Vector3 (tuple(v) would end its iteration on an IndexError: slower)."""
+    return (v[0], v[1], v[2])
+
+
+def _norm(v):
+    return math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
 
 
 def _rigid(vtk, bodies, cell_type, local_corners, extra, fr):
@@ -240,80 +295,61 @@ def _clump_corners(b):
     return [v(c[0] + sx * e[0], c[1] + sy * e[1], c[2] + sz * e[2]) for sx, sy, sz in _HEX_CORNERS]
 
 
-def _contact_end(i, side):
-    """Centre of one side of a contact: the axis point of a FlexContactGeom (a sphere's centre, the
-    closest point on a cylinder's axis or a facet's midplane), else a sphere's centre, else (a
-    wall, a YADE facet, a box) the contact point."""
-    g = i.geom
-    p = getattr(g, "axis1" if side == 1 else "axis2", None)
-    if p is not None:
-        return _v3(p)
-    b = O.bodies[i.id1 if side == 1 else i.id2]
-    return _v3(b.state.pos if isinstance(b.shape, Sphere) else g.contactPoint)
-
-
 def real_contacts():
     """The scene's real interactions that carry a contact force (FrictPhys-like physics; a
     FlexContactGeom contact handed over to a neighbour is left out), in O.interactions' order."""
     return [i for i in O.interactions if i.isReal and hasattr(i.phys, "normalForce") and getattr(i.geom, "active", True)]
 
 
-def _contacts(vtk, inters, fr):
-    """One line per contact from the centre of body 1's side to body 2's (force chains), contact
-    data on the cells."""
-    pts, rows = [], []
-    bodies = O.bodies
-    for i in inters:  # one pass: each attribute read once
-        g, ph = i.geom, i.phys
-        id1, id2 = i.id1, i.id2
-        pts += [_contact_end(i, 1), _contact_end(i, 2)]
-        p1, p2 = fr.part(bodies[id1]), fr.part(bodies[id2])
-        fn, fs = _v3(ph.normalForce), _v3(ph.shearForce)
-        rows.append((id1, id2, p1, p2, P.contact_kind(p1, p2), _v3(g.contactPoint), _v3(g.normal), fn, fs, _norm(fn), _norm(fs),
-                     _norm([fn[0] + fs[0], fn[1] + fs[1], fn[2] + fs[2]]), getattr(g, "penetrationDepth", float("nan"))))
-    col = list(zip(*rows)) if rows else [()] * 13
-    names = ("id1", "id2", "part1", "part2", "kind", "contactPoint", "normal", "normalForce", "shearForce", "fn", "fs", "force",
-             "penetrationDepth")
-    return _grid(vtk, pts, _VTK_LINE, range(len(pts)), 2,
-                 cell_data=[(n, c, 3 if n in ("contactPoint", "normal", "normalForce", "shearForce") else 1) for n, c in zip(names, col)])
+def _contacts(vtk, c, fr):
+    """One line per contact (FlexSnapshot.contacts' arrays) from the centre of body 1's side to
+    body 2's (force chains), contact data on the cells."""
+    n = len(c["id1"])
+    pts = np.stack([c["end1"], c["end2"]], axis=1).reshape(-1, 3)
+    p1, p2 = fr.part_ids[c["id1"]], fr.part_ids[c["id2"]]
+    fn, fs = c["normalForce"], c["shearForce"]
+    data = [("id1", c["id1"], 1), ("id2", c["id2"], 1), ("part1", p1, 1), ("part2", p2, 1),
+            ("kind", 10 * np.minimum(p1, p2) + np.maximum(p1, p2), 1), ("contactPoint", c["contactPoint"], 3), ("normal", c["normal"], 3),
+            ("normalForce", fn, 3), ("shearForce", fs, 3), ("fn", _norms(fn), 1), ("fs", _norms(fs), 1), ("force", _norms(fn + fs), 1),
+            ("penetrationDepth", c["penetrationDepth"], 1)]
+    return _grid(vtk, pts, _VTK_LINE, np.arange(2 * n), 2, cell_data=data)
 
+
+_NO_CONTACTS = {k: np.zeros((0, comp) if comp > 1 else 0, dtype=dt) for k, (dt, comp) in _CONTACT_FIELDS.items()}
+_BODY_LISTS = ("cylinders", "facets", "clumps", "boxes", "rigid_facets")  # builders that read the bodies themselves
 
 _BUILD = {
-    "nodes": lambda vtk, bs, fr: _particles(vtk, bs, fr),
+    "nodes": lambda vtk, ids, fr: _particles(vtk, ids, fr),
     "cylinders": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS, fr, "cylinders"),
     "facets": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS, fr, "facets"),
-    "spheres": lambda vtk, bs, fr: _particles(vtk, bs, fr),
+    "spheres": lambda vtk, ids, fr: _particles(vtk, ids, fr),
     "clumps": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _clump_corners,
                                          lambda bs_: [("mass", [b.state.mass for b in bs_], 1)], fr),
     "boxes": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _box_corners,
                                         lambda bs_: [("extents", [_v3(b.shape.extents) for b in bs_], 3)], fr),
     "rigid_facets": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: [], fr),
-    "contacts": lambda vtk, inters, fr: _contacts(vtk, inters, fr),
+    "contacts": lambda vtk, c, fr: _contacts(vtk, c, fr),
 }
 
 
-def _group_of(shape):
-    # FlexNode, FlexCylinder and FlexFacet derive from Shape only, so the order does not matter.
-    for cls, g in ((FlexNode, "nodes"), (FlexCylinder, "cylinders"), (FlexFacet, "facets"), (Sphere, "spheres"),
-                   (Clump, "clumps"), (Box, "boxes"), (Facet, "rigid_facets")):
-        if isinstance(shape, cls):
-            return g
-    return None
+def _empty(g):
+    """What a group's builder takes for no bodies (or no contacts)."""
+    return _NO_CONTACTS if g == "contacts" else []
 
 
-def scene_groups():
-    """dict group -> list of bodies (in id order) of the current scene, and 'contacts' -> list of
-    real_contacts(); only non-empty groups."""
+def scene_groups(snap=None):
+    """dict group -> what its builder takes, for the non-empty groups of the current scene (in id
+    order): the ids of nodes and spheres, the bodies of the other body groups, and 'contacts' ->
+    FlexSnapshot.contacts' arrays (the contacts of real_contacts(), in its order)."""
+    snap = snap or _Snapshot()
     out = {}
-    for b in O.bodies:
-        if b is None:
-            continue
-        g = _group_of(b.shape)
-        if g is not None:
-            out.setdefault(g, []).append(b)
-    contacts = real_contacts()
-    if contacts:
-        out["contacts"] = contacts
+    for g in GROUPS[:-1]:
+        ids = snap.ids(g)
+        if len(ids):
+            out[g] = [O.bodies[int(i)] for i in ids] if g in _BODY_LISTS else ids
+    c = snap.contacts()
+    if len(c["id1"]):
+        out["contacts"] = c
     return out
 
 
@@ -330,6 +366,7 @@ def _write_vtu(vtk, grid, path, time):
     w.SetInputData(grid)
     w.SetDataModeToAppended()
     w.EncodeAppendedDataOff()
+    w.SetCompressorTypeToLZ4()  # (zlib's compression took longer than building the frame)
     w.SetHeaderTypeToUInt64()
     if w.Write() != 1:
         raise OSError(f"VTK could not write {path}")
@@ -367,8 +404,9 @@ def write_vtk_snapshot(folder, name, parts=None):
     _check_name("snapshot name", name)
     os.makedirs(folder, exist_ok=True)
     paths, datasets = {}, []
-    groups = scene_groups()
-    fr = _Frame(parts)
+    snap = _Snapshot()
+    groups = scene_groups(snap)
+    fr = _Frame(snap, parts)
     for part, g in enumerate(x for x in GROUPS if x in groups):
         fn = f"{name}_{g}.vtu"
         _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), os.path.join(folder, fn), float(O.time))
@@ -463,22 +501,24 @@ class VtkRecorder(_Periodic):
         if not self._due():
             return None
         vtk = _vtk()
-        groups = scene_groups()
+        snap = _Snapshot()
+        groups = scene_groups(snap)
         broken = self._broken()
         for g in broken:
             groups.setdefault(g, [])
         k = len(self.frames)
         files = {}
         t = float(O.time) - self.time_origin
-        parts = P.scene_parts() if self.parts is None else self.parts
+        fr = _Frame(snap, P.scene_parts() if self.parts is None else self.parts, broken)
+        none = _Frame(snap, {})  # (the shared empty files: no bodies, no broken elements)
         for g in GROUPS:
             if g not in groups:
                 continue
             files[g] = f"{self.prefix}_{g}_{k:06d}.vtu"
-            fr = _Frame(parts, broken, self._memory.get(g))
+            fr.memory = self._memory.get(g)
             _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), os.path.join(self.folder, files[g]), t)
             if g not in self.groups:
-                _write_vtu(vtk, _BUILD[g](vtk, [], _Frame(parts)), os.path.join(self.folder, self._empty_file(g)), t)
+                _write_vtu(vtk, _BUILD[g](vtk, _empty(g), none), os.path.join(self.folder, self._empty_file(g)), t)
                 self.groups = [x for x in GROUPS if x in self.groups or x == g]
         self.frames.append((float(O.time), O.iter, files))
         self.last_iter = O.iter

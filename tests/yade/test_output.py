@@ -11,7 +11,7 @@ from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from yade import O
 from yade.minieigenHP import Quaternion, Vector3
-from yade.wrapper import Body, Box, FrictMat
+from yade.wrapper import Body, Box, FlexNode, FrictMat
 
 import yadeflex as yf
 import yadeflex.membrane_scenes as MS
@@ -104,7 +104,7 @@ def test_vtk_series_matches_scene(scene, tmp_path):
     files = {n: os.path.join(str(tmp_path), f) for n, f in frames[-1][1]}
     assert all(os.path.basename(f).endswith("_000002.vtu") for f in files.values())
 
-    all_nodes = [b for b in O.bodies if b is not None and isinstance(b.shape, yf.output.FlexNode)]
+    all_nodes = [b for b in O.bodies if b is not None and isinstance(b.shape, FlexNode)]
     g = _read(files["nodes"])
     assert g.GetNumberOfPoints() == g.GetNumberOfCells() == len(all_nodes) == 5 + 9
     assert vtk_to_numpy(g.GetFieldData().GetArray("TimeValue"))[0] == O.time

@@ -1,0 +1,34 @@
+// yade-flex adapter: FlexSnapshot, the scene's bodies and contacts as flat arrays for output
+// (GPL-2.0-or-later).
+//
+// Output (yadeflex.output's VTK frames) needs, at every frame, a few values of every body and
+// every contact. Read attribute by attribute from Python that is one call per value; here it is
+// one pass over the bodies and one over the interactions. Each method returns a dict
+// {name: bytes}, every value the raw native-endian array of one field (float64, or int64 for
+// ids, codes and counts), row by row; numpy.frombuffer reads it without a copy.
+#pragma once
+#include "FlexPch.hpp"
+
+namespace yade {
+
+class FlexSnapshot : public Serializable {
+public:
+	/// Group codes of FlexSnapshot.bodies()["group"], in the order yadeflex.output's GROUPS
+	/// lists the body groups; a body matches the first shape class it is an instance of.
+	enum Group : long { kErased = -1, kNoGroup = 0, kNodes, kCylinders, kFacets, kSpheres, kClumps, kBoxes, kRigidFacets, kWalls };
+	boost::python::dict bodies() const;
+	boost::python::dict contacts() const;
+	virtual ~FlexSnapshot() = default;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexSnapshot, Serializable,
+		"The current scene's bodies and contacts as flat arrays (yadeflex.output's VTK frames read them): each method returns a dict of field name to bytes, the raw array of that field (float64, int64 for ids, codes and counts), for numpy.frombuffer.",
+		/* no attributes */,
+		/* ctor */,
+		.def("bodies", &FlexSnapshot::bodies, "One row per body slot (len(O.bodies)), in id order: 'group' (int64: -1 erased, 0 none of these, 1 FlexNode, 2 FlexCylinder, 3 FlexFacet, 4 Sphere, 5 Clump, 6 Box, 7 Facet, 8 Wall; the first class the shape is an instance of), 'clumped' (int64: 1 for a clump or a clump member), 'pos', 'vel', 'angVel' (3 float64 each), 'mass', 'radius' (float64; the shape's radius for FlexNode and Sphere, else NaN), 'blocked' (int64: number of blocked DOFs).")
+		.def("contacts", &FlexSnapshot::contacts, "One row per real interaction whose physics is a NormShearPhys (not a FlexContactGeom handed over to a neighbour: active false), in O.interactions' order: 'id1', 'id2' (int64), 'end1', 'end2' (3 float64: the centre of each side: a FlexContactGeom's axis point, else a sphere's centre, else the contact point), 'contactPoint', 'normal', 'normalForce', 'shearForce' (3 float64; NaN where the geometry has no such field) and 'penetrationDepth' (float64, NaN where the geometry has none).")
+	);
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(FlexSnapshot);
+
+} // namespace yade
