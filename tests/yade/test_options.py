@@ -9,7 +9,7 @@ import pytest
 
 from conftest import REPO
 from yadeflex import module_cli as cli
-from yadeflex.module import FILLS
+from yadeflex.module import FILLS, ModuleParams
 
 SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
 YADE_BANNER = ("Welcome to Yade", "Using python", "TCP python prompt", "XMLRPC info provider", "Running script")  # yade-double's own lines
@@ -35,7 +35,7 @@ BAD = [
     (["--lining", "maybe"], "--lining"), (["--lining", "2"], "--lining"), (["--lining", ""], "--lining"),
     (["--lining-thickness", "-0.002"], "--lining-thickness"), (["--lining-thickness", "0.5"], "--lining-thickness"),
     (["--lining-gap", "-0.01"], "--lining-gap"), (["--lining-gap", "0.3"], "--lining-gap"), (["--lining-gap", "nan"], "--lining-gap"),
-    (["--fill", "marbles"], "--fill"), (["--fill", "GRAVEL"], "--fill"),
+    (["--fill", "marbles"], "--fill"), (["--fill", "GRAVEL"], "--fill"), (["--fill", "cellular_glass"], "--fill"),
     (["--grain-min", "0"], "--grain-min"), (["--grain-min", "0.05", "--grain-max", "0.01"], "--grain-min"),
     (["--grain-min", "1e-6"], "--grain-min"),
     (["--grain-max", "nan"], "--grain-max"), (["--grain-max", "0.5"], "--grain-max"),
@@ -79,6 +79,18 @@ def test_bad_option_is_one_line_naming_it(args, option):
     msg = str(err.value)
     assert "\n" not in msg and msg.startswith(f"bad option {option}:"), msg
     assert "allowed" in msg, msg
+
+
+def test_a_withdrawn_fill_preset_is_refused_with_its_reason():
+    """cellular_glass is not offered (its grains would need to crush): refused by the job and by
+    ModuleParams, naming the reason and the presets there are; not listed in --help."""
+    with pytest.raises(cli.OptionError) as err:
+        cli.parse(["--small", "--fill", "cellular_glass"])
+    assert str(err.value).startswith("bad option --fill: got 'cellular_glass'; allowed one of 'gravel', 'sand' (cellular_glass is withdrawn: "), err.value
+    assert "crush" in str(err.value)
+    with pytest.raises(ValueError, match="cellular_glass is withdrawn: .*do not crush"):
+        ModuleParams(fill="cellular_glass").validate()
+    assert "cellular_glass" not in FILLS and "cellular_glass:" not in cli.parser().format_help()
 
 
 @pytest.mark.parametrize("word, value", [("true", True), ("YES", True), ("1", True), ("False", False), ("no", False), ("0", False)])

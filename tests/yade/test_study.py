@@ -79,7 +79,7 @@ def test_bad_cells_are_named_by_row_and_column_before_anything_runs(tmp_path):
     assert err.value.errors == [
         "row 2 (line 3), column drop_height: bad option --drop-height: got -3.0; allowed (0, 127.421] m (an impact speed up to 50 m/s)",
         "row 3 (line 4), column small: got 'maybe'; allowed true/false/yes/no/1/0",
-        "row 3 (line 4), column fill: bad option --fill: got 'granite'; allowed one of 'cellular_glass', 'gravel', 'sand'",
+        "row 3 (line 4), column fill: bad option --fill: got 'granite'; allowed one of 'gravel', 'sand'",
         "row 4 (line 5), column record_every: " + err.value.errors[3].split(": ", 1)[1],
         "row 5 (line 6), column repeat: got '0'; allowed a whole number >= 1",
         "row 5 (line 6), column name: the run name 'ok' is already row 1's"], err.value.errors
