@@ -14,6 +14,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <vector>
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
 
 namespace yade {
 namespace flexa {
@@ -160,24 +163,45 @@ namespace flexa {
 		}
 	} // namespace
 
-	void checkScene(const Scene* scene, bool force)
-	{
-		static const Scene*      lastScene = nullptr;
-		static long              lastIter  = -1;
-		static std::vector<char> isNode; // per body id: a FlexNode (filled by the pass over the bodies)
-		if (!force && scene == lastScene && scene->iter == lastIter) return;
-		checkEngines(scene);
-		// one pass over the bodies in id order, their states and shapes asked for ahead (the
-		// pass reads every body's state: without, it waits on each); the elements' nodes are
-		// then checked against the table of node ids, not by visiting the node bodies again
-		const shared_ptr<Body>* body = scene->bodies->body.data();
-		const long              n    = (long)scene->bodies->body.size();
-		isNode.assign(n, 0);
-		std::vector<const Material*> materials; // (a scene has a handful)
-		const Material*              lastMat = nullptr;
-		std::vector<const Body*>     elements; // (checked against the node table once it is complete)
-		for (long id = 0; id < n; ++id) {
-			// two levels ahead: the body 32 ahead, then what is read of the one 16 ahead
+	namespace {
+		// The materials a pass has checked: each is checked on the first body that has it.
+		struct SeenMaterials {
+			std::vector<const Material*> list; // (a scene has a handful)
+			const Material*              last = nullptr;
+		};
+
+		// One body's own checks (shape radius, state, material), in that order; records whether it
+		// is a node or an element for the element pass that follows.
+		void checkBody(const Body& b, char& isNode, char& isElement, SeenMaterials& seen)
+		{
+			const Shape* sh      = b.shape.get();
+			bool         element = false;
+			if (sh) {
+				const std::type_info& t = typeid(*sh);
+				if (t == typeid(FlexNode))
+					isNode = 1;
+				else if (t == typeid(Sphere))
+					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
+				else if ((element = flexa::fastCast<FlexCylinder>(sh) || flexa::fastCast<FlexFacet>(sh)))
+					isElement = 1;
+				else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
+					checkRadius(b, sp->radius);
+			}
+			if (b.state) checkState(b, element);
+			const Material* m = b.material.get();
+			if (m && m != seen.last) {
+				seen.last = m;
+				if (std::find(seen.list.begin(), seen.list.end(), m) == seen.list.end()) {
+					seen.list.push_back(m);
+					checkMaterial(b, m);
+				}
+			}
+		}
+
+		// the body 32 ahead, then what is read of the one 16 ahead (the pass reads every body's
+		// state: without, it waits on each)
+		void fetchAhead(const shared_ptr<Body>* body, long n, long id)
+		{
 			using flexa::tuning::kAheadCheckBodies;
 			using flexa::tuning::kAheadCheckParts;
 			if (id + kAheadCheckBodies < n) flexa::prefetch(body[id + kAheadCheckBodies].get(), sizeof(Body));
@@ -186,33 +210,75 @@ namespace flexa {
 					flexa::prefetch(c->state.get(), 192); // (the fields read: a few lines, not all of State)
 					flexa::prefetch(c->shape.get(), 64);
 				}
-			if (!body[id]) continue;
-			const Body&  b       = *body[id];
-			const Shape* sh      = b.shape.get();
-			bool         element = false;
-			if (sh) {
-				const std::type_info& t = typeid(*sh);
-				if (t == typeid(FlexNode))
-					isNode[id] = 1;
-				else if (t == typeid(Sphere))
-					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
-				else if ((element = flexa::fastCast<FlexCylinder>(sh) || flexa::fastCast<FlexFacet>(sh)))
-					elements.push_back(&b);
-				else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
-					checkRadius(b, sp->radius);
+		}
+
+		// scenes with fewer bodies are checked by one thread (a parallel region costs more)
+		constexpr long kCheckParallelMin = 2000;
+	} // namespace
+
+	void checkScene(const Scene* scene, bool force)
+	{
+		static const Scene*      lastScene = nullptr;
+		static long              lastIter  = -1;
+		static std::vector<char> isNode, isElement; // per body id, filled by the pass over the bodies
+		if (!force && scene == lastScene && scene->iter == lastIter) return;
+		checkEngines(scene);
+		// one pass over the bodies in id order; the elements' nodes are then checked against the
+		// table of node ids, not by visiting the node bodies again
+		const shared_ptr<Body>* body = scene->bodies->body.data();
+		const long              n    = (long)scene->bodies->body.size();
+		isNode.assign(n, 0);
+		isElement.assign(n, 0);
+		int nThreads = 1;
+#ifdef YADE_OPENMP
+		if (n >= kCheckParallelMin) nThreads = omp_get_max_threads();
+#endif
+		if (nThreads == 1) {
+			SeenMaterials seen;
+			for (long id = 0; id < n; ++id) {
+				fetchAhead(body, n, id);
+				if (body[id]) checkBody(*body[id], isNode[id], isElement[id], seen);
 			}
-			if (b.state) checkState(b, element);
-			const Material* m = b.material.get();
-			if (m && m != lastMat) {
-				lastMat = m;
-				if (std::find(materials.begin(), materials.end(), m) == materials.end()) {
-					materials.push_back(m);
-					checkMaterial(b, m);
+		} else {
+			// Each thread checks a contiguous, ascending range of ids and stops at its first refusal
+			// (its materials each checked at their first body in the range). The smallest refused id
+			// is then the one a serial pass would stop at (a bad material first seen at a body of
+			// another range makes that body refused there, if it comes first), and checking it again
+			// alone gives the serial pass's message.
+			long firstBad = n;
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(nThreads)
+#endif
+			{
+				SeenMaterials seen;
+				long          mine = n;
+#ifdef YADE_OPENMP
+#pragma omp for schedule(static)
+#endif
+				for (long id = 0; id < n; ++id) {
+					if (mine < n) continue;
+					fetchAhead(body, n, id);
+					if (!body[id]) continue;
+					try {
+						checkBody(*body[id], isNode[id], isElement[id], seen);
+					} catch (const std::invalid_argument&) {
+						mine = id;
+					}
 				}
+#ifdef YADE_OPENMP
+#pragma omp critical(flexSceneCheck)
+#endif
+				firstBad = std::min(firstBad, mine);
+			}
+			if (firstBad < n) {
+				SeenMaterials fresh;
+				char          node = 0, element = 0;
+				checkBody(*body[firstBad], node, element, fresh); // (throws)
 			}
 		}
-		for (const Body* bp : elements) {
-			const Body&  b  = *bp;
+		for (long id = 0; id < n; ++id) {
+			if (!isElement[id]) continue;
+			const Body&  b  = *body[id];
 			const Shape* sh = b.shape.get();
 			if (const FlexCylinder* c = flexa::fastCast<FlexCylinder>(sh)) {
 				const int ids[2] = { c->node1, c->node2 };

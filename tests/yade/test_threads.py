@@ -82,3 +82,24 @@ def test_per_thread_force_sums_give_the_forces_of_add_force(module_cache):
         assert got["usedThreadSums"] and got["iter"] == ref["iter"] and got["real"] == ref["real"], name
         diff = max(abs(a - b) for ra, rb in zip(ref["ft"], got["ft"]) for a, b in zip(ra, rb))
         assert diff <= 1e-12 * scale, f"{name}: force/torque differs by {diff} (largest {scale})"
+
+
+def _refusals(j):
+    out = run_yade(os.path.join(HERE, "scripts", "check_threads_scene.py"), threads=j)
+    return json.loads([l for l in out.splitlines() if l.startswith("MSG ")][-1][4:])
+
+
+def test_scene_check_on_two_threads_refuses_the_body_one_thread_does():
+    """The scene check runs on every thread from 2000 bodies on, each on its range of ids; the
+    body it names must be the one the serial pass names (the smallest id refused, a bad material
+    at the first body that has it), with the same message."""
+    a, b = _refusals(1), _refusals(2)
+    assert b == a
+    assert a["none"] is None
+    # ids: spheres 0-2499 in order, then the chain's nodes and cylinders; two threads split the
+    # ids near 1250: the two problems (1000, 2400) fall in different ranges
+    assert "body #2000 (Sphere): shape.radius must be finite (below 1e100) and positive, got -0.01" in a["radius"], a["radius"]
+    assert "body #300 (Sphere): state.vel must be finite" in a["velocity"], a["velocity"]
+    assert "body #1800 (Sphere): material 'late' (FrictMat).young must be finite and positive, got -1" in a["material"], a["material"]
+    assert "body #1000 (Sphere): state.vel" in a["two"], a["two"]
+    assert "(FlexCylinder): shape.node2 = 10 is not a FlexNode (it is a Sphere)" in a["node"], a["node"]
