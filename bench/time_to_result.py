@@ -2,7 +2,7 @@
 # module, an earlier build against this one, alternating run by run (GPL-2.0-or-later).
 #
 #     /usr/bin/python3 bench/time_to_result.py --before DIR [--after DIR] [--reps 3] [--small]
-#         [--threads-reps 2] [--out bench/results/time_to_result.csv]
+#         [--threads-reps 2] [--fill-once] [--out bench/results/time_to_result.csv]
 #
 # A build is a checkout DIR: its scripts/damping_module.py and py/ are run with the plugin
 # installed in DIR/.prefix (`cd DIR && YADE_PREFIX=$PWD/.prefix scripts/setup`), or the system's
@@ -43,6 +43,8 @@ def parse():
     ap.add_argument("--reps", type=int, default=3, help="repetitions of fill + impact per build (medians)")
     ap.add_argument("--threads-reps", type=int, default=2, help="impacts of the new build at -j1 and at -j2 each (0: none)")
     ap.add_argument("--small", action="store_true", help="the reduced module (a quick try, not the acceptance)")
+    ap.add_argument("--fill-once", action="store_true",
+                    help="fill each build once, in the first repetition, and run every impact from that fill (the fill's time is then one run)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "time_to_result.csv"))
     return ap.parse_args()
 
@@ -89,19 +91,23 @@ def main():
     try:
         for rep in range(a.reps):
             for label, checkout in builds:
-                cache = os.path.join(work, f"{label}-{rep}-cache")
                 out = os.path.join(work, f"{label}-{rep}-run")
-                os.makedirs(cache)
-                t_fill, rc = yade(checkout, 1, ["--fill-only", "--cache-dir", cache, *size], os.path.join(work, f"{label}-{rep}-fill.log"))
-                if rc != 0:
-                    raise RuntimeError(f"{label} fill failed (exit {rc}), see {work}")
+                if a.fill_once and label in first_cache:
+                    cache, t_fill = first_cache[label], None
+                else:
+                    cache = os.path.join(work, f"{label}-{rep}-cache")
+                    os.makedirs(cache)
+                    t_fill, rc = yade(checkout, 1, ["--fill-only", "--cache-dir", cache, *size], os.path.join(work, f"{label}-{rep}-fill.log"))
+                    if rc != 0:
+                        raise RuntimeError(f"{label} fill failed (exit {rc}), see {work}")
+                    state = fill_state(cache, a.small)
                 t_imp, rc = yade(checkout, 1, ["--cache-dir", cache, "--out", out, *size], os.path.join(work, f"{label}-{rep}-impact.log"))
                 with open(os.path.join(out, "summary.json")) as f:
                     s = json.load(f)
-                row = dict(build=label, rep=rep, fill_s=round(t_fill, 1), impact_s=round(t_imp, 1), exit_status=rc,
+                row = dict(build=label, rep=rep, fill_s=None if t_fill is None else round(t_fill, 1), impact_s=round(t_imp, 1), exit_status=rc,
                            peak_force_kN=round(s["peak_impact_force"] / 1e3, 2), penetration_mm=round(1e3 * s["penetration_max"], 1),
                            energy_residual_pct=round(100 * s["energy_residual_max_fraction"], 3))
-                row.update(fill_state(cache, a.small))
+                row.update(state)
                 runs.append(row)
                 first_cache.setdefault(label, cache)
                 print(" ".join(f"{k}={v}" for k, v in row.items()), flush=True)
@@ -114,7 +120,7 @@ def main():
                 print(f"impact at -j{t}: {wall:.1f} s", flush=True)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    med = {(b, k): statistics.median(r[k] for r in runs if r["build"] == b) for b, _ in builds for k in ("fill_s", "impact_s")}
+    med = {(b, k): statistics.median(r[k] for r in runs if r["build"] == b and r[k] is not None) for b, _ in builds for k in ("fill_s", "impact_s")}
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     stem = os.path.splitext(a.out)[0]
     with open(a.out, "w", newline="") as f:
