@@ -69,8 +69,10 @@ def run(full, out, cache_dir=None):
     c = Case(name="cushion_mass_exponent", group=GROUP, quantity=f"exponent b of peak force ~ m^b at a constant cube size {size:.3f} m, H = {base.drop_height:g} m, m = {', '.join(f'{m:g}' for m in masses)} kg",
              reference=0.6, source="Labiouse 1996, ASTRA 2008: F ~ m^0.6 at constant R; JRA 2000: m^(2/3)", tolerance=EXPONENT_TOL, kind="absolute",
              justification=EXPONENT_WHY)
-    c.open = ("issue 36, section 2: what drives the mass exponent (grain shape, crushing, density, confinement) is not yet known; "
-              "issue 36 reports m^1.06 on the full-size module, where the fill locks up past about a quarter of the module height")
+    c.open = ("issue 36, section 2: on the full-size module the peak is the larger of an early, inertial peak (little dependent on the mass) "
+              "and a late one at the deepest point, where the fill locks up; the lock-up is driven mainly by the boulder's size against "
+              "the module's and by the grains' stiffness, not by rolling resistance (validation/studies/fill_factors); the fill's density, "
+              "grain shape and crushing are not yet measured")
     res.append(grade(c, fit("m", masses)))
     for key, r in sorted(runs.items(), key=lambda kv: (kv[0][0], kv[0][1])):
         if key[0] == "m" and r is runs.get(("H", base.drop_height)):

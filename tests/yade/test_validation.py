@@ -101,3 +101,47 @@ def test_a_case_without_a_finite_measurement_is_not_measured():
     assert grade(c, 1.05).verdict == "PASS" and grade(c, 1.2).verdict == "FAIL"
     with pytest.raises(ValueError, match="kind"):
         Case(name="x", group="g", quantity="q", reference=1.0, source="s", tolerance=0.1, kind="percent", justification="j")
+
+
+def _factor_study(folder, variants):
+    """A study folder as scripts/study writes it, for validation/fill_factors.py: per variant the
+    five runs with peak = c H^a m^b, penetration = 0.1 H^0.4 m^0.2, and a time series that goes
+    down to that penetration with force k d^n, then back up."""
+    import csv
+    rows = []
+    for v, (c, a, b, k, n) in variants.items():
+        for kind, m, h in (("H1", 800, 1), ("H2", 800, 2), ("H4", 800, 4), ("m400", 400, 2), ("m1600", 1600, 2)):
+            pen = 0.1 * h ** 0.4 * (m / 800) ** 0.2
+            rows.append(dict(name=f"{v}-{kind}", status="done", peak_impact_force=c * h ** a * (m / 800) ** b, penetration_max=pen,
+                             energy_residual_max_fraction=0.001))
+            os.makedirs(os.path.join(folder, "runs", f"{v}-{kind}"))
+            with open(os.path.join(folder, "runs", f"{v}-{kind}", "timeseries.csv"), "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["t[s]", "boulder_vz[m/s]", "impact_force[N]", "penetration[m]"])
+                for j in range(1, 11):  # moving down to the deepest point, then up
+                    w.writerow([j, -1.0 if j < 10 else 0.0, k * (pen * j / 10) ** n, pen * j / 10])
+                w.writerow([11, 0.5, 0.0, pen])
+    with open(os.path.join(folder, "results.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def test_fill_factor_exponents_from_exact_power_laws(tmp_path):
+    """validation/fill_factors.py recovers the exponents of exact power laws: peak ~ H^a m^b,
+    penetration ~ H^0.4 m^0.2, and the force at the deepest point ~ penetration^n across the runs
+    (taken where the boulder stops moving down)."""
+    import sys
+    sys.path.insert(0, os.path.join(REPO, "validation"))
+    import fill_factors as ff
+    _factor_study(str(tmp_path), dict(one=(2e5, 0.6, 0.6, 1e9, 3.0), two=(1e5, 0.8, 1.1, 3e12, 7.0)))
+    rows = {r["variant"]: r for r in ff.summarise(str(tmp_path))}
+    for v, a, b, n in (("one", 0.6, 0.6, 3.0), ("two", 0.8, 1.1, 7.0)):
+        r = rows[v]
+        assert r["runs_done"] == r["runs"] == 5
+        assert r["force_height_exp"] == pytest.approx(a, abs=1e-12) and r["force_mass_exp"] == pytest.approx(b, abs=1e-12)
+        assert r["pen_height_exp"] == pytest.approx(0.4, abs=1e-12) and r["pen_mass_exp"] == pytest.approx(0.2, abs=1e-12)
+        assert r["deep_force_depth_exp"] == pytest.approx(n, abs=1e-9)
+        assert r["pen_mm_H2"] == pytest.approx(1e3 * 0.1 * 2 ** 0.4, rel=1e-12)
+    table = ff.table(list(rows.values()))
+    assert "| one | 5/5 |" in table and "| 0.60 | 0.60 | 0.40 | 0.20 | 3.0 |" in table
