@@ -417,28 +417,66 @@ def fill_radii(params):
 
 
 def settle_fill(params, r_in, rnd, progress=None):
-    """Stage 1 on an empty O: grains on a close-packed lattice up to PLACED_HEIGHT x H (solid
-    fraction about 0.33: enough for a dense fill above H) in a rigid frictionless container of
-    radius r_in on a wall at z = 0, settled frictionless, then with friction (until at rest:
-    kinetic energy and unbalanced force), trimmed to the height and the container removed.
-    Returns (wall id, grain ids, the kinetic-energy tolerance used)."""
-    p = params.preset()
-    H = params.height
+    """Stage 1 on an empty O: the module's grains settled in their container of radius r_in
+    (settle_grains with the module's preset, height, centres and settle damping), the container
+    removed. Returns (wall id, grain ids, the kinetic-energy tolerance used)."""
+    wall, grains, ke_tol, _ = settle_grains(params.preset(), params.height, r_in, rnd, centers=params.centers(),
+                                            damping=params.settle_damping, progress=progress)
+    return wall, grains, ke_tol
+
+
+def fill_engines(p, damping, friction=True):
+    """yadeflex.engines() for grains of preset p settling at the filling's step: with p's rolling
+    resistance, or (friction False) with none."""
+    rf = p["rolling_friction"] if friction else 0.0
+    return engines(damping=damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
+
+
+def _floor_grains(radius, r_floor, mat):
+    """A fixed monolayer of spheres of radius r_floor on a square lattice of spacing 2 r_floor,
+    touching z = 0, out to `radius` about the axis: a floor as rough as the largest grains."""
+    n = int(radius / (2 * r_floor))
+    out = []
+    for i in range(-n, n + 1):
+        for j in range(-n, n + 1):
+            x, y = 2 * r_floor * i, 2 * r_floor * j
+            if math.hypot(x, y) <= radius:
+                bid = _sphere_body(Vector3(x, y, r_floor), r_floor, mat)
+                O.bodies[bid].state.blockedDOFs = "xyzXYZ"
+                O.bodies[bid].dynamic = False
+                out.append(bid)
+    return out
+
+
+def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.settle_damping, rough_floor=0.0, keep_container=False, progress=None):
+    """Grains of fill preset p settled as the module's fill is, on an empty O: placed on a
+    close-packed lattice up to PLACED_HEIGHT x H (solid fraction about 0.33: enough for a dense
+    fill above H) in a rigid frictionless container of radius r_in about each centre, on a wall
+    at z = 0, settled frictionless, then with friction (until at rest: kinetic energy and
+    unbalanced force, local damping `damping`), and trimmed to the height H.
+    rough_floor > 0: a fixed monolayer of the largest grains covers the floor out to that
+    radius, and the fill starts on it. keep_container: the container stays (else removed).
+    Returns (wall id, grain ids, the kinetic-energy tolerance used, the container's facet ids)."""
     gmat = _grain_material(p)
     from yade import utils
     wall = O.bodies.append(utils.wall(0, axis=2, sense=1, material=gmat))
     rmax = 0.5 * p["grain_max"]
+    z0 = rmax * 1.05
+    if rough_floor > 0:
+        r_floor = rmax
+        _floor_grains(rough_floor, r_floor, gmat)
+        z0 += 2 * r_floor
     a = 2.05 * rmax
-    grains = []
-    for cx, cy in params.centers():
-        _container(r_in, 3.6 * H, center=(cx, cy))
-        for pos in _placement(r_in - 1.05 * rmax, rmax * 1.05, PLACED_HEIGHT * H, a):
+    grains, container = [], []
+    for cx, cy in centers:
+        container += _container(r_in, 3.6 * H, center=(cx, cy))
+        for pos in _placement(r_in - 1.05 * rmax, z0, PLACED_HEIGHT * H, a):
             rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
             grains.append(_sphere_body(Vector3(cx + pos[0], cy + pos[1], pos[2]), rad, gmat))
     # densification: no friction, no rolling resistance (a standard DEM filling procedure)
     phi = gmat.frictionAngle
     gmat.frictionAngle = 0.0
-    O.engines = engines(damping=params.settle_damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=0.0, rolling_friction=0.0)
+    O.engines = fill_engines(p, damping, friction=False)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
     if progress:  # the count of grains sets the time a step takes
@@ -452,23 +490,24 @@ def settle_fill(params, r_in, rnd, progress=None):
         if i.isReal and hasattr(i.phys, "tangensOfFrictionAngle"):
             angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
             i.phys.tangensOfFrictionAngle = math.tan(min(angles))
-    O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
+    O.engines = fill_engines(p, damping)
     if progress:
         progress("fill, with friction", 0, float("nan"), ke_tol)
     _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, with friction", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
-    # trim: keep the grains wholly below the module's height
+    # trim: keep the grains wholly below the height
     for g in list(grains):
         b = O.bodies[g]
         if b.state.pos[2] + b.shape.radius > H:
             O.bodies.erase(g)
             grains.remove(g)
-    for b in list(O.bodies):
-        if b is not None and b.shape.__class__.__name__ == "Facet":
-            O.bodies.erase(b.id)
+    if not keep_container:
+        for f in container:
+            O.bodies.erase(f)
+        container = []
     for g in grains:
         O.bodies[g].state.vel = Vector3(0, 0, 0)
         O.bodies[g].state.angVel = Vector3(0, 0, 0)
-    return wall, grains, ke_tol
+    return wall, grains, ke_tol, container
 
 
 def build_filled(params, progress=None):
