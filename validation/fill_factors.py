@@ -8,7 +8,9 @@ The study (study.csv) runs each variant at 800 kg from 1, 2 and 4 m and at 400 a
 2 m with the same cube (its density scaled). Variants: base (the main job's defaults), seed2 (another
 fill of the same preset: the scatter of the exponents), norolling (no rolling resistance),
 stiff (grain contact modulus x3), smallcube (a 0.5 m cube instead of the 0.69 m one, the masses
-kept: a third of the module's top under the boulder instead of three fifths).
+kept: a third of the module's top under the boulder instead of three fifths), wide (a module 1.4 m
+across instead of 1.0 m: the mesh's confinement farther from the boulder), tall (a module 0.9 m high
+instead of 0.6 m: the slab farther below it).
 
 This script reads OUT/results.csv and each run's timeseries.csv and writes, per variant:
   - the exponents b of power fits peak ~ H^b, peak ~ m^b (constant cube), penetration ~ H^b and
