@@ -11,8 +11,11 @@ does in bulk, to compare with documented values of the real material.
   K0 = d(sigma_h)/d(sigma_v), and the isotropic elastic moduli these give (lambda = K0 M,
   nu = K0 / (1 + K0), E = M (1 + nu)(1 - 2 nu) / (1 - nu)), among them the Lame constant and
   the plate-load modulus of the cushion formulas (yadeflex.cushion).
+- plate_load_test: the plate-load modulus M_E of the cushion formulas, measured as they define
+  it: a rigid circular plate pressed into the surface of a fill layer filled as the module's
+  fill is, M_E = D dp/ds (D the plate's diameter, p its mean pressure, s its settlement).
 - bulk density: the solid fraction of the settled fill times the grains' density.
-Both tests start from an empty O (O.reset()). validation/fill_calibration.py runs them on the
+The tests start from an empty O (O.reset()). validation/fill_calibration.py runs them on the
 presets and writes the report."""
 import math
 import random
@@ -65,7 +68,6 @@ def heap_angle(centers, radii, z_floor=0.0, axis=None, bin_width=None, flank=FLA
     rc, prof = rc[have], prof[have]
     h = prof.max() - z_floor
     sel = (prof >= z_floor + flank[0] * h) & (prof <= z_floor + flank[1] * h)
-    # the flank is the part outside the crest: from the first ring below the crest band outwards
     if sel.sum() < 3:
         return dict(angle_deg=math.nan, r=rc, top=prof, fit=(math.nan, math.nan), n_fit=int(sel.sum()), height=h)
     slope, icpt = np.polyfit(rc[sel], prof[sel], 1)
@@ -77,13 +79,14 @@ def _grain_ids():
     return [b.id for b in O.bodies if b is not None and isinstance(b.shape, Sphere) and b.dynamic]
 
 
-def repose_test(fill="gravel", friction_deg=None, rolling_friction=None, young=None, radius=0.25, height=0.5, lift_speed=0.1, damping=0.2,
+def repose_test(fill="gravel", friction_deg=None, rolling_friction=None, young=None, radius=0.25, height=0.5, lift_speed=0.025, damping=0.2,
                 seed=1, progress=None):
     """Angle of repose of the preset's grains (overrides as in preset()): a column of radius
     `radius` and height `height` [m], filled as the module's fill is (settle_grains) on a floor
     of the largest grains fixed side by side, then the frictionless cylinder lifted at
     lift_speed [m/s] and the grains left to come to rest (kinetic energy and unbalanced force,
-    local damping `damping`). Returns dict(angle_deg, heap (heap_angle's dict), grains,
+    local damping `damping`). The slower the lift, the steeper the heap: the grains that run out
+    last arrive slower and stop on a steeper flank (validation/calibration shows by how much). Returns dict(angle_deg, heap (heap_angle's dict), grains,
     params, steps, seconds simulated)."""
     p = preset(fill, friction_deg, rolling_friction, young)
     radius = C.number("radius", radius, C.Range(2 * p["grain_max"], 2.0, "m", note="at least two of the largest grains"))
@@ -240,3 +243,81 @@ def oedometer_test(fill="gravel", friction_deg=None, rolling_friction=None, youn
         rows.append(row)
     out["ranges"] = rows
     return out
+
+
+def _disk(z, radius, n, mat):
+    """A rigid horizontal disk of n triangular facets (a fan about the axis) at height z."""
+    from yade import utils
+    ids = []
+    for k in range(n):
+        t0, t1 = 2 * math.pi * k / n, 2 * math.pi * (k + 1) / n
+        v = [Vector3(0, 0, z), Vector3(radius * math.cos(t0), radius * math.sin(t0), z), Vector3(radius * math.cos(t1), radius * math.sin(t1), z)]
+        ids.append(O.bodies.append(utils.facet(v, material=mat, fixed=True)))
+    return ids
+
+
+def plate_load_test(fill="gravel", friction_deg=None, rolling_friction=None, young=None, plate_diameter=0.3, radius=0.3, height=0.6,
+                    max_stress=200e3, max_settlement=0.06, speed=0.005, damping=0.2, seed=1, ranges=((10e3, 50e3), (50e3, 100e3), (100e3, 200e3)),
+                    every=20, progress=None):
+    """Plate-load test of the preset's fill (overrides as in preset()): the module's fill
+    procedure (settle_grains) in a rigid frictionless cylinder of `radius` and `height` [m] on a
+    rigid floor (a layer on a slab, as a cushion is), then a rigid circular plate of
+    `plate_diameter` [m] (a polygon of 36 sides inscribed in that circle), as rough as the grains, pressed into the middle of its surface at a
+    constant `speed` [m/s] until its mean pressure reaches max_stress [Pa] or it has sunk
+    max_settlement [m] (a fill that gives way under the plate: then `reached` is False and the
+    ranges above the last pressure have no modulus), sampled every `every` steps. The plate
+    starts on the highest grain under it. Returns dict with the curve
+    (settlement s [m], pressure p [Pa] on the plate, sigma_bottom [Pa]: the floor's mean vertical
+    stress), the sample's solid fraction and weight, and per pressure range (lo, hi) [Pa] the
+    secant plate-load modulus M_E = D (hi - lo) / (s(hi) - s(lo)) [Pa] (first crossings), and
+    `imbalance`: the mean of |floor load - weight - plate load| / plate load above 10 kPa (zero
+    when quasi-static)."""
+    p = preset(fill, friction_deg, rolling_friction, young)
+    plate_diameter = C.number("plate_diameter", plate_diameter, C.Range(4 * p["grain_max"], 2.0, "m", note="at least four of the largest grains"))
+    radius = C.number("radius", radius, C.Range(plate_diameter, 4.0, "m", note="at least the plate's diameter: the container at half a plate from its edge"))
+    height = C.number("height", height, C.Range(plate_diameter, 4.0, "m", note="at least the plate's diameter"))
+    max_stress = C.number("max_stress", max_stress, C.Range(1e3, 1e8, "Pa"))
+    max_settlement = C.number("max_settlement", max_settlement, C.Range(0.0, 0.5 * plate_diameter, "m", lo_open=True, note="at most half the plate's diameter"))
+    speed = C.number("speed", speed, C.Range(0.0, 1.0, "m/s", lo_open=True))
+    damping = C.number("damping", damping, LIMITS["damping"])
+    every = C.integer("every", every, 1)
+    O.reset()
+    floor, grains, _, container = settle_grains(p, height, radius, random.Random(seed), keep_container=True, progress=progress)
+    R = 0.5 * plate_diameter
+    under = [g for g in grains if math.hypot(O.bodies[g].state.pos[0], O.bodies[g].state.pos[1]) < R + O.bodies[g].shape.radius]
+    z0 = max(O.bodies[g].state.pos[2] + O.bodies[g].shape.radius for g in under)
+    gmat = O.bodies[grains[0]].material
+    n_facets = 36
+    plate = _disk(z0, R, n_facets, gmat)
+    mass = sum(O.bodies[g].state.mass for g in grains)
+    area = 0.5 * n_facets * R * R * math.sin(2 * math.pi / n_facets)  # the plate's polygon
+    floor_area = math.pi * radius * radius
+    cs, rs = [tuple(O.bodies[g].state.pos) for g in grains], [O.bodies[g].shape.radius for g in grains]
+    out = dict(params=p, grains=len(grains), plate_diameter=plate_diameter, plate_area=area, radius=radius, height=height, mass=mass,
+               solid_fraction=solid_fraction(cs, rs, radius, 0.0, height), weight_stress=mass * G / floor_area)
+    O.engines = fill_engines(p, damping)
+    for f in plate:
+        O.bodies[f].state.vel = Vector3(0, 0, -speed)
+    curve = dict(s=[], p=[], sigma_bottom=[])
+    it0 = O.iter
+    while True:
+        O.run(every, True)
+        curve["s"].append(z0 - O.bodies[plate[0]].state.pos[2])
+        curve["p"].append(sum(O.forces.f(f)[2] for f in plate) / area)
+        curve["sigma_bottom"].append(-O.forces.f(floor)[2] / floor_area)
+        if progress:
+            progress("plate load", O.iter - it0, curve["p"][-1], max_stress)
+        if curve["p"][-1] >= max_stress or curve["s"][-1] >= max_settlement:
+            break
+    out["reached"] = bool(curve["p"][-1] >= max_stress)
+    curve = {k: np.asarray(v) for k, v in curve.items()}
+    # quasi-static: the frictionless container carries no vertical load, so the floor carries the
+    # plate's load and the weight; the mean imbalance relative to the plate's load above 10 kPa
+    on = curve["p"] > 10e3
+    F = curve["p"][on] * area
+    out["imbalance"] = float(np.mean(np.abs(curve["sigma_bottom"][on] * floor_area - mass * G - F) / F)) if on.any() else math.nan
+    out["curve"] = curve
+    out["steps"] = O.iter - it0
+    out["ranges"] = [dict(lo=lo, hi=hi, M_E=plate_diameter * secant(curve["s"], curve["p"], lo, hi)) for lo, hi in ranges]
+    return out
+
