@@ -52,22 +52,28 @@ def number(r, key):
     return v if r.get("status") == "done" else math.nan
 
 
-def curve(out, name):
+def curve(out, name, rebound=None):
     """(penetration [m], force on the boulder [N]) of a run's time series, from the start to the
-    deepest point (the first record where the boulder no longer moves down)."""
+    deepest point (the first record where the boulder no longer moves down; the run's last record
+    if it never does). rebound: a list that gets whether the boulder stopped moving down."""
     path = os.path.join(out, "runs", name, "timeseries.csv")
     if not os.path.isfile(path):
         return [], []
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    k = next((i for i, r in enumerate(rows) if float(r["boulder_vz[m/s]"]) >= 0), len(rows) - 1)
+    k = next((i for i, r in enumerate(rows) if float(r["boulder_vz[m/s]"]) >= 0), None)
+    if rebound is not None:
+        rebound.append(k is not None)
+    k = len(rows) - 1 if k is None else k
     return [float(r["penetration[m]"]) for r in rows[:k + 1]], [float(r["impact_force[N]"]) for r in rows[:k + 1]]
 
 
 def deepest(out, name):
-    """(penetration [m], force [N]) at the deepest point of a run (NaN, NaN without its series)."""
-    d, F = curve(out, name)
-    return (d[-1], F[-1]) if d else (math.nan, math.nan)
+    """(penetration [m], force [N], whether the boulder stopped moving down within the run) at
+    the deepest point of a run (NaN, NaN, False without its series)."""
+    rebound = []
+    d, F = curve(out, name, rebound)
+    return (d[-1], F[-1], rebound[0]) if d else (math.nan, math.nan, False)
 
 
 def fit(xs, ys):
@@ -99,7 +105,8 @@ def summarise(out):
             pen_mass_exp=fit(list(MASSES.values()), [pen(k) for k in MASSES]),
             deep_kN_H1=deep.get("H1", (0, math.nan))[1] / 1e3, deep_kN_H2=deep.get("H2", (0, math.nan))[1] / 1e3,
             deep_kN_H4=deep.get("H4", (0, math.nan))[1] / 1e3,
-            deep_force_depth_exp=fit([d for d, _ in deep.values()], [F for _, F in deep.values()]),
+            deep_force_depth_exp=fit([v[0] for v in deep.values()], [v[1] for v in deep.values()]),
+            stopped_runs=sum(bool(v[2]) for v in deep.values()),
             max_residual_pct=max((100 * number(r, "energy_residual_max_fraction") for r in runs.values()), default=math.nan)))
     return rows
 
@@ -107,17 +114,18 @@ def summarise(out):
 def table(rows):
     head = ("| variant | runs done | peak [kN] H = 1 / 2 / 4 m | peak [kN] m = 400 / 1600 kg | penetration [mm] H = 1 / 2 / 4 m | "
             "force at the deepest point [kN] H = 1 / 2 / 4 m | peak ~ H^b | peak ~ m^b | penetration ~ H^b | penetration ~ m^b | "
-            "deepest force ~ penetration^n (5 runs) | largest residual |\n"
-            "|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+            "deepest force ~ penetration^n (5 runs) | runs whose boulder stopped moving down | largest residual |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
     f = lambda x, p=0: "-" if not math.isfinite(x) else f"{x:.{p}f}"  # noqa: E731
     body = "".join(
         f"| {r['variant']} | {r['runs_done']}/{r['runs']} | {f(r['peak_kN_H1'])} / {f(r['peak_kN_H2'])} / {f(r['peak_kN_H4'])} | "
         f"{f(r['peak_kN_m400'])} / {f(r['peak_kN_m1600'])} | {f(r['pen_mm_H1'])} / {f(r['pen_mm_H2'])} / {f(r['pen_mm_H4'])} | "
         f"{f(r['deep_kN_H1'])} / {f(r['deep_kN_H2'])} / {f(r['deep_kN_H4'])} | "
         f"{f(r['force_height_exp'], 2)} | {f(r['force_mass_exp'], 2)} | {f(r['pen_height_exp'], 2)} | {f(r['pen_mass_exp'], 2)} | "
-        f"{f(r['deep_force_depth_exp'], 1)} | {f(r['max_residual_pct'], 2)}% |\n" for r in rows)
+        f"{f(r['deep_force_depth_exp'], 1)} | {r['stopped_runs']}/{r['runs']} | {f(r['max_residual_pct'], 2)}% |\n" for r in rows)
     return head + body + ("\nReferences: peak ~ H^0.6 and m^0.6 (Labiouse 1996, ASTRA 2008; JRA 2000: m^2/3); Hertz's penetration ~ H^0.4, "
-                          "m^0.2 at constant size; force ~ penetration^1.5 (Hertz).\n")
+                          "m^0.2 at constant size; force ~ penetration^1.5 (Hertz). Where the boulder did not stop moving down within the run, its "
+                          "\"deepest point\" is the run's last record: it came to rest in the fill, and n is not a lock-up's.\n")
 
 
 def plot(out, rows, path):

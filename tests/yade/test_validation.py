@@ -143,5 +143,6 @@ def test_fill_factor_exponents_from_exact_power_laws(tmp_path):
         assert r["pen_height_exp"] == pytest.approx(0.4, abs=1e-12) and r["pen_mass_exp"] == pytest.approx(0.2, abs=1e-12)
         assert r["deep_force_depth_exp"] == pytest.approx(n, abs=1e-9)
         assert r["pen_mm_H2"] == pytest.approx(1e3 * 0.1 * 2 ** 0.4, rel=1e-12)
+        assert r["stopped_runs"] == 5  # every series turns up at its deepest point
     table = ff.table(list(rows.values()))
-    assert "| one | 5/5 |" in table and "| 0.60 | 0.60 | 0.40 | 0.20 | 3.0 |" in table
+    assert "| one | 5/5 |" in table and "| 0.60 | 0.60 | 0.40 | 0.20 | 3.0 | 5/5 |" in table
