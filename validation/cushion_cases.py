@@ -96,7 +96,7 @@ def run(full, out, cache_dir=None):
              justification=EXPONENT_WHY)
     c.open = ("issue 36, section 2: on the full-size module the peak is the larger of an early, inertial peak (little dependent on the mass) "
               "and a late one at the deepest point, where the fill locks up; the lock-up is driven by the confinement of the fill between "
-              "the boulder and the mesh (a wider module does not lock up) and by the grains' stiffness, not by rolling resistance "
+              "the boulder and the mesh (a wider module hardly locks up) and by the grains' stiffness, not by rolling resistance "
               "(validation/studies/fill_factors); the fill's density, grain shape and crushing are not yet measured")
     res.append(grade(c, fit("m", masses)))
     for key, r in sorted(runs.items(), key=lambda kv: (kv[0][0], kv[0][1])):
