@@ -18,6 +18,7 @@
 //   ElementNodes            element(int id) const;      // nNodes 0: not an element
 #pragma once
 #include "ClosestPoints.hpp"
+#include "SlotArray.hpp"
 #include "Triangle.hpp"
 #include "Types.hpp"
 
@@ -142,10 +143,10 @@ inline bool ownsCluster(const Mesh& mesh, const ElementNodes& self, int selfId, 
 		Hit          h;
 		Vec3         n;
 	};
-	Member cl[kMaxCluster];
-	int    seen[4 * kMaxCluster];
-	int    nCl = 0, nSeen = 0;
-	cl[nCl++]     = { selfId, self, hit, n };
+	SlotArray<Member, kMaxCluster> cl;
+	int                            seen[4 * kMaxCluster];
+	int                            nCl = 0, nSeen = 0;
+	cl.put(nCl++, { selfId, self, hit, n });
 	seen[nSeen++] = selfId;
 	for (int m = 0; m < nCl; ++m) { // breadth-first over linked neighbours
 		const Member cur = cl[m];
@@ -171,7 +172,7 @@ inline bool ownsCluster(const Mesh& mesh, const ElementNodes& self, int selfId, 
 				if (!linked) continue; // may still join through another member
 				if (nSeen < 4 * kMaxCluster) seen[nSeen++] = other;
 				if (nCl < kMaxCluster) {
-					cl[nCl++] = { other, oe, oh, on };
+					cl.put(nCl++, { other, oe, oh, on });
 					if (oh.overlap > hit.overlap || (oh.overlap == hit.overlap && other < selfId)) return false;
 				}
 			}
@@ -289,11 +290,11 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 		PairHit             h;
 		ElementNodes        ea, eb;
 	};
-	Member cl[kMaxCluster];
-	Met    met[4 * kMaxCluster];
-	int    nCl = 0, nMet = 0;
-	cl[nCl++]   = { idA, idB, A, B, self };
-	met[nMet++] = { { idA, idB }, 0, self, A, B };
+	SlotArray<Member, kMaxCluster>  cl;
+	SlotArray<Met, 4 * kMaxCluster> met;
+	int                             nCl = 0, nMet = 0;
+	cl.put(nCl++, { idA, idB, A, B, self });
+	met.put(nMet++, { { idA, idB }, 0, self, A, B });
 	// a pair met from a member: evaluated once, then added if `link` says it is the same
 	// contact; returns true if it beats self (self then does not carry the contact)
 	auto visit = [&](const Member& cur, int ia2, int ib2, auto link) {
@@ -305,18 +306,17 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 		if (at < 0) {
 			if (nMet == 4 * kMaxCluster) return false; // (full: a cluster this large does not occur)
 			at     = nMet++;
-			Met& x = met[at];
+			Met& x = met.put(at, Met {});
 			x.pq   = pq;
 			x.ea   = ia2 == cur.ia ? cur.a : mesh.element(ia2);
 			x.eb   = ib2 == cur.ib ? cur.b : mesh.element(ib2);
-			x.h    = PairHit();
 			if (x.ea.nNodes && x.eb.nNodes && !shareNode(x.ea, x.eb)) x.h = pairHit(mesh, ia2, x.ea, ib2, x.eb); // (bonded: no contact)
 			x.member = x.h.overlap > 0 ? -1 : -2;
 			if (x.member == -2) return false; // not touching: never part of a cluster
 		}
 		if (!link(met[at]) || nCl == kMaxCluster) return false; // may still join through another member
 		met[at].member = nCl;
-		cl[nCl]        = { ia2, ib2, met[at].ea, met[at].eb, met[at].h };
+		cl.put(nCl, { ia2, ib2, met[at].ea, met[at].eb, met[at].h });
 		return beats(cl[nCl++]);
 	};
 	auto holds = [](const ElementNodes& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
