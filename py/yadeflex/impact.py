@@ -22,7 +22,7 @@ from yade.minieigenHP import Vector3
 
 from .files import CsvStream, ResultsFolder, write_json
 from .impact_plots import write_plots
-from .module import filled_module, add_boulder, fill_top, G, UNBALANCED_TOL
+from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G, UNBALANCED_TOL
 from .output import VtkRecorder
 from .scene import contact_law
 from .signals import Interrupted, Signals
@@ -262,6 +262,10 @@ class ImpactRun:
         self.stage = "impact"
         self.ids, self.names, self.broken = ids, part_names(ids), BrokenElements(ids)
         self.top0 = fill_top(ids)
+        self.lining_added, self.lining_own = scale_lining_nodes(ids, p.lining_node_mass)
+        if self.lining_added > 0:
+            print(f"lining nodes at {1e3 * p.lining_node_mass:g} g or more for the time step (mass scaling): +{self.lining_added:.2f} kg "
+                  f"on the lining's own {self.lining_own:.2f} kg")
         bid = add_boulder(p, ids)
         self.size = p.boulder_size()
         self.boulder = O.bodies[bid]
@@ -450,7 +454,7 @@ class ImpactRun:
             rebound=times.t_rebound is not None,
             slab_force_max=peak("slab_force"), bulge_max=peak("bulge_max"), ring_top_force_max=peak("ring_top_force"),
             ring_bottom_force_max=peak("ring_bottom_force"), rope_force_max=peak("rope_force"),
-            impact_energy=self.e_impact, max_overlap_ratio=self.max_overlap_ratio,
+            impact_energy=self.e_impact, max_overlap_ratio=self.max_overlap_ratio, lining_mass=self.lining_own, lining_mass_added=self.lining_added,
             deep_contact_onsets=law.deepOnsets, deep_onset_energy=law.deepOnsetEnergy,
             deep_contact_endings=law.deepEndings, deep_ending_energy=law.deepEndingEnergy,
             energy_end={k: last.get(k, 0.0) for k in keys}, energy_residual_max_fraction=self.resid,

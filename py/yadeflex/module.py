@@ -114,6 +114,7 @@ LIMITS = dict(
     timestep_safety=C.Range(0.05, 1.0, note="x FlexTimeStepper's critical step"),
     steel_contact_young=C.Range(1e8, 2e11, "Pa", note="up to steel's E"),
     module_gap=C.Range(0.0, math.inf, "m", note="below the diameter"),
+    lining_node_mass=C.Range(0.0, 0.2, "kg", note="0: the lining's own mass; the mass added is reported (lining_mass_added)"),
 )
 
 # the reduced module: fast enough for tests and benchmarks (ModuleParams.small())
@@ -145,6 +146,7 @@ class ModuleParams:
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
     timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 2.16x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
+    lining_node_mass: float = 0.02   # [kg] least mass of a lining node during the impact (mass scaling, scale_lining_nodes); 0: the lining's own mass
     seed: int = 1
     n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
     module_gap: float = 0.02         # [m] clear gap between neighbouring modules
@@ -270,7 +272,8 @@ class ModuleParams:
     def fill_key(self):
         """Hash of every parameter the filled module depends on (the cache key)."""
         d = dataclasses.asdict(self)
-        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety"):
+        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety",
+                  "lining_node_mass"):
             d.pop(k)
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
@@ -747,12 +750,36 @@ def touches(bid):
     return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
 
 
+def scale_lining_nodes(ids, m_min):
+    """Mass scaling of the lining for the impact: every dynamic lining node gets at least the mass
+    m_min [kg], its rotational inertia scaled by the same factor. The geotextile's own nodes weigh
+    about a gram; pressed between grains and wires they would set the time step of the whole
+    impact (FlexTimeStepper's stiffest body), while their inertia is small beside the grains that
+    press on them. The mass added weighs too (gravity acts on it). Returns (mass added, the
+    lining's own mass) [kg]; m_min = 0 changes nothing."""
+    added = own = 0.0
+    for m in ids["modules"]:
+        for n in m.get("lining_nodes", []):
+            b = O.bodies[n]
+            if b is None or not b.dynamic:
+                continue
+            own += b.state.mass
+            if b.state.mass < m_min:
+                f = m_min / b.state.mass
+                added += m_min - b.state.mass
+                b.state.mass = m_min
+                b.state.inertia = Vector3(b.state.inertia) * f
+    return added, own
+
+
 def impact_start(params, cache_dir=None, max_fall=0.5):
     """The main job's impact up to the boulder's first contact: loads (or fills) the module,
     adds the boulder and the impact engines, and steps until the boulder touches something (for
     benchmarks and diagnostics that look at the impact itself). Returns (ids, boulder id, the
-    boulder's member body ids). Raises RuntimeError if no contact within max_fall [s]."""
+    boulder's member body ids), with the lining's nodes scaled as the main job scales them
+    (scale_lining_nodes). Raises RuntimeError if no contact within max_fall [s]."""
     ids, _, _ = filled_module(params, cache_dir=cache_dir)
+    scale_lining_nodes(ids, params.lining_node_mass)
     bid = add_boulder(params, ids)
     O.engines = params.engines(params.damping)
     boulder = O.bodies[bid]

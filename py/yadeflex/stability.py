@@ -42,7 +42,7 @@ from . import scenes, membrane_scenes, tensile
 from . import membrane as M
 from .impact import RunSettings, unstable_body
 from .materials import steel
-from .module import ModuleParams, filled_module, add_boulder
+from .module import ModuleParams, filled_module, add_boulder, scale_lining_nodes
 
 CHECK = 10          # steps between energy checks
 SCAN = 200          # steps between scans of every body for non-finite values and the largest speed
@@ -126,12 +126,14 @@ def panel(size=0.5, speed=1.0, max_elongation=0.5, damping=0.2):
 
 def module(small=True, speed=None, t_cap=0.08):
     """The damping module of the main job (scripts/damping_module.py): ModuleParams() or its
-    --small variant, cached fill, boulder with p.engines(p.damping). Runs until the boulder
+    --small variant, cached fill, the lining's nodes scaled as the main job scales them, boulder
+    with p.engines(p.damping). Runs until the boulder
     moves up again (rebound) plus 5 ms, or t_cap [s] of simulated time."""
     p = ModuleParams.small() if small else ModuleParams()
     if speed is not None:
         p.impact_velocity = speed
     ids, _, _ = filled_module(p)
+    scale_lining_nodes(ids, p.lining_node_mass)
     bid = add_boulder(p, ids)
     O.engines = [FlexGuard(label="guard")] + p.engines(p.damping)
     b = O.bodies[bid]

@@ -55,6 +55,8 @@ BAD = [
     (["--timestep-safety", "0"], "--timestep-safety"), (["--timestep-safety", "1e-300"], "--timestep-safety"),
     (["--timestep-safety", "2"], "--timestep-safety"),
     (["--steel-contact-young", "-1"], "--steel-contact-young"), (["--steel-contact-young", "1e20"], "--steel-contact-young"),
+    (["--lining-node-mass", "-0.01"], "--lining-node-mass"), (["--lining-node-mass", "nan"], "--lining-node-mass"),
+    (["--lining-node-mass", "5"], "--lining-node-mass"),
     (["--seed", "1.5"], "--seed"), (["--seed", "-1"], "--seed"), (["--seed", "1e40"], "--seed"),
     (["--n-modules", "2"], "--n-modules"), (["--n-modules", "three"], "--n-modules"),
     (["--module-gap", "-0.02"], "--module-gap"), (["--module-gap", "5"], "--module-gap"),
