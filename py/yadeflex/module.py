@@ -144,7 +144,7 @@ class ModuleParams:
     impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
     damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact (not the boulder's free fall)
     settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
-    timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 2.16x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
+    timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 1.86x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
     steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
     lining_node_mass: float = 0.02   # [kg] least mass of a lining node during the impact (mass scaling, scale_lining_nodes); 0: the lining's own mass
     seed: int = 1
