@@ -364,8 +364,10 @@ def _write_vtu(vtk, grid, path, time):
     w = vtk["writer"]()
     w.SetFileName(path)
     w.SetInputData(grid)
-    w.SetDataModeToAppended()
-    w.EncodeAppendedDataOff()
+    # inline (base64 in each array), not appended: ParaView 5.11's reader (Debian bookworm) stops
+    # its XML parser at an appended block, which fails with the expat of Debian's security updates
+    # (reparse deferral), and then shows nothing of the file
+    w.SetDataModeToBinary()
     w.SetCompressorTypeToLZ4()  # (zlib's compression took longer than building the frame)
     w.SetHeaderTypeToUInt64()
     if w.Write() != 1:
