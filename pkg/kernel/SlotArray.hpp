@@ -6,10 +6,8 @@
 // constructs all N on every call, which costs more than the search itself. Here a slot is
 // constructed by put() and may be read only after that.
 #pragma once
-#include <cstddef>
 #include <new>
 #include <type_traits>
-#include <utility>
 
 namespace flex {
 
@@ -18,9 +16,8 @@ template <class T, int N> class SlotArray {
 
 public:
 	SlotArray() { }
-	SlotArray(const SlotArray&)                      = delete;
-	SlotArray&           operator=(const SlotArray&) = delete;
-	static constexpr int capacity() { return N; }
+	SlotArray(const SlotArray&)            = delete;
+	SlotArray& operator=(const SlotArray&) = delete;
 	/// Constructs slot i (0 <= i < N) as a copy of v, over whatever it held.
 	T& put(int i, const T& v) { return *::new (static_cast<void*>(raw_ + i * sizeof(T))) T(v); }
 	/// Slot i, written by put() before.
