@@ -157,7 +157,7 @@ public:
 		for (long k = 0; k < ns; ++k) {
 			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
 				if (const State* st = c.state.get()) {
-					flexa::prefetch(&st->pos, sizeof(Vector3r));
+					flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
 					flexa::prefetch(&st->vel, sizeof(Vector3r));
 					flexa::prefetch(&st->angVel, sizeof(Vector3r));
 				}
@@ -171,9 +171,10 @@ public:
 			const Shape* sh = b->shape.get();
 			const State* st = b->state.get();
 			if (!sh || !st || typeid(*sh) != typeid(Sphere)) continue;
-			q.x           = st->pos[0];
-			q.y           = st->pos[1];
-			q.z           = st->pos[2];
+			const Vector3r& x = st->se3.position; // (not pos, a reference read from the State's first line)
+			q.x               = x[0];
+			q.y               = x[1];
+			q.z               = x[2];
 			q.r           = static_cast<const Sphere*>(sh)->radius;
 			mv[id].vel    = st->vel;
 			mv[id].angVel = st->angVel;

@@ -135,7 +135,7 @@ namespace {
 		void  saveMaximaDisplacement(const shared_ptr<Body>& b)
 		{
 			if (!b->bound) return;
-			const Real d = (b->state->pos - b->bound->refPos).cwiseAbs().maxCoeff();
+			const Real d = (b->state->se3.position - b->bound->refPos).cwiseAbs().maxCoeff();
 			mx           = std::max(mx, (d == 0 || d < b->bound->sweepLength) ? Real(0.5) : Real(2));
 		}
 	};
@@ -210,7 +210,11 @@ void FlexNewtonIntegrator::action()
 			if (k + kAheadIntegratorBodies < n) flexa::prefetch(bodies[mv[k + kAheadIntegratorBodies]].get(), sizeof(Body));
 			if (k + kAheadIntegratorParts < n)
 				if (const Body* bb = bodies[mv[k + kAheadIntegratorParts]].get()) {
-					flexa::prefetch(bb->state.get(), sizeof(State));
+					// the State from se3 on (its first line holds the references pos and ori, not read)
+					if (const State* s = bb->state.get()) {
+						const char* from = reinterpret_cast<const char*>(&s->se3);
+						flexa::prefetch(from, sizeof(State) - size_t(from - reinterpret_cast<const char*>(s)));
+					}
 					if (bb->bound) flexa::prefetch(bb->bound.get(), sizeof(Aabb));
 				}
 		}
@@ -234,7 +238,7 @@ void FlexNewtonIntegrator::action()
 		const Vector3r m       = scene->forces.getTorque(id);
 		const unsigned blocked = st->blockedDOFs;
 		static_assert(unsigned(State::DOF_ALL) == flex::kAllDofs, "the kernel numbers DOFs as State::axisDOF");
-		flex::BodyDofs dofs { st->pos, st->vel, st->angVel, st->ori, st->inertia, st->mass, blocked, st->isDamped };
+		flex::BodyDofs dofs { st->se3.position, st->vel, st->angVel, st->se3.orientation, st->inertia, st->mass, blocked, st->isDamped };
 		if (track) {
 			// the same terms as NewtonIntegrator (kernel/LeapFrog.hpp), summed here and booked
 			// once per step; damping on free DOFs only
@@ -248,7 +252,7 @@ void FlexNewtonIntegrator::action()
 		}
 		flex::leapFrog(f, m, dofs, lf);
 		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
-			const Real d = (st->pos - nRef[id]).cwiseAbs().maxCoeff();
+			const Real d = (st->se3.position - nRef[id]).cwiseAbs().maxCoeff();
 			if (!(d == 0 || d < nSweep[id])) mx = 2;
 		}
 		MemberSweep sweep { mx };

@@ -111,8 +111,10 @@ namespace flexa {
 		void checkState(const Body& b, bool element)
 		{
 			const State& s = *b.state;
-			if (!finite(s.pos)) refuse(b, "state.pos", "must be finite (below 1e100), " + got(s.pos));
-			if (!finite(s.ori)) refuse(b, "state.ori", "must be finite");
+			// (se3, not the references pos and ori: these are read from a line of State the pass
+			// does not otherwise need)
+			if (!finite(s.se3.position)) refuse(b, "state.pos", "must be finite (below 1e100), " + got(s.se3.position));
+			if (!finite(s.se3.orientation)) refuse(b, "state.ori", "must be finite");
 			if (!finite(s.vel)) refuse(b, "state.vel", "must be finite (below 1e100), " + got(s.vel));
 			if (!finite(s.angVel)) refuse(b, "state.angVel", "must be finite (below 1e100), " + got(s.angVel));
 			if (!(finite(s.mass) && s.mass >= 0)) refuse(b, "state.mass", "must be finite (below 1e100) and >= 0, " + got(s.mass));
@@ -170,9 +172,18 @@ namespace flexa {
 			const Material*              last = nullptr;
 		};
 
+		// What the element pass checks of an element, copied while its shape is at hand (the pass
+		// then reads this table instead of visiting every element's body and shape again).
+		struct ElementRecord {
+			int  nodes[3];
+			int  nNodes;
+			Real radius;
+		};
+
 		// One body's own checks (shape radius, state, material), in that order; records whether it
-		// is a node or an element for the element pass that follows.
-		void checkBody(const Body& b, char& isNode, char& isElement, SeenMaterials& seen)
+		// is a node or an element (and then the element's nodes and radius) for the element pass
+		// that follows.
+		void checkBody(const Body& b, char& isNode, char& isElement, ElementRecord& rec, SeenMaterials& seen)
 		{
 			const Shape* sh      = b.shape.get();
 			bool         element = false;
@@ -182,10 +193,15 @@ namespace flexa {
 					isNode = 1;
 				else if (t == typeid(Sphere))
 					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
-				else if ((element = flexa::fastCast<FlexCylinder>(sh) || flexa::fastCast<FlexFacet>(sh)))
-					isElement = 1;
-				else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
+				else if (const FlexCylinder* c = flexa::fastCast<FlexCylinder>(sh)) {
+					element = true;
+					rec     = { { c->node1, c->node2, -1 }, 2, c->radius };
+				} else if (const FlexFacet* f = flexa::fastCast<FlexFacet>(sh)) {
+					element = true;
+					rec     = { { f->node1, f->node2, f->node3 }, 3, f->radius };
+				} else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
 					checkRadius(b, sp->radius);
+				isElement = element;
 			}
 			if (b.state) checkState(b, element);
 			const Material* m = b.material.get();
@@ -207,8 +223,14 @@ namespace flexa {
 			if (id + kAheadCheckBodies < n) flexa::prefetch(body[id + kAheadCheckBodies].get(), sizeof(Body));
 			if (id + kAheadCheckParts < n)
 				if (const Body* c = body[id + kAheadCheckParts].get()) {
-					flexa::prefetch(c->state.get(), 192); // (the fields read: a few lines, not all of State)
-					flexa::prefetch(c->shape.get(), 64);
+					// the lines of the fields checkState reads, from the position to blockedDOFs (the
+					// State's first bytes hold none of them), and the shape up to a Sphere's radius
+					if (const State* st = c->state.get()) {
+						const char* from = reinterpret_cast<const char*>(&st->se3); // (pos is a reference: reading it would wait)
+						const char* to   = reinterpret_cast<const char*>(&st->blockedDOFs + 1);
+						flexa::prefetch(from, size_t(to - from));
+					}
+					flexa::prefetch(c->shape.get(), sizeof(Sphere));
 				}
 		}
 
@@ -220,7 +242,8 @@ namespace flexa {
 	{
 		static const Scene*      lastScene = nullptr;
 		static long              lastIter  = -1;
-		static std::vector<char> isNode, isElement; // per body id, filled by the pass over the bodies
+		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
+		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
 		if (!force && scene == lastScene && scene->iter == lastIter) return;
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
@@ -229,6 +252,7 @@ namespace flexa {
 		const long              n    = (long)scene->bodies->body.size();
 		isNode.assign(n, 0);
 		isElement.assign(n, 0);
+		elements.resize(n);
 		int nThreads = 1;
 #ifdef YADE_OPENMP
 		if (n >= kCheckParallelMin) nThreads = omp_get_max_threads();
@@ -237,7 +261,7 @@ namespace flexa {
 			SeenMaterials seen;
 			for (long id = 0; id < n; ++id) {
 				fetchAhead(body, n, id);
-				if (body[id]) checkBody(*body[id], isNode[id], isElement[id], seen);
+				if (body[id]) checkBody(*body[id], isNode[id], isElement[id], elements[id], seen);
 			}
 		} else {
 			// Each thread checks a contiguous, ascending range of ids and stops at its first refusal
@@ -260,7 +284,7 @@ namespace flexa {
 					fetchAhead(body, n, id);
 					if (!body[id]) continue;
 					try {
-						checkBody(*body[id], isNode[id], isElement[id], seen);
+						checkBody(*body[id], isNode[id], isElement[id], elements[id], seen);
 					} catch (const std::invalid_argument&) {
 						mine = id;
 					}
@@ -273,22 +297,15 @@ namespace flexa {
 			if (firstBad < n) {
 				SeenMaterials fresh;
 				char          node = 0, element = 0;
-				checkBody(*body[firstBad], node, element, fresh); // (throws)
+				ElementRecord rec;
+				checkBody(*body[firstBad], node, element, rec, fresh); // (throws)
 			}
 		}
 		for (long id = 0; id < n; ++id) {
 			if (!isElement[id]) continue;
-			const Body&  b  = *body[id];
-			const Shape* sh = b.shape.get();
-			if (const FlexCylinder* c = flexa::fastCast<FlexCylinder>(sh)) {
-				const int ids[2] = { c->node1, c->node2 };
-				checkNodes(scene, b, ids, 2, isNode);
-				checkRadius(b, c->radius);
-			} else if (const FlexFacet* f = flexa::fastCast<FlexFacet>(sh)) {
-				const int ids[3] = { f->node1, f->node2, f->node3 };
-				checkNodes(scene, b, ids, 3, isNode);
-				checkRadius(b, f->radius);
-			}
+			const ElementRecord& e = elements[id];
+			checkNodes(scene, *body[id], e.nodes, e.nNodes, isNode);
+			checkRadius(*body[id], e.radius);
 		}
 		lastScene = scene;
 		lastIter  = scene->iter;

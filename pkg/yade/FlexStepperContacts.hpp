@@ -48,6 +48,10 @@ namespace flexa {
 			std::vector<StepBody>   out(n);
 			const Material*         lastMat   = nullptr;
 			const FrictMat*         lastFrict = nullptr;
+			// each body on its own: in parallel on large scenes (the material cache per thread)
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) firstprivate(lastMat, lastFrict) if (n >= flexa::tuning::kStepperBodiesParallelMin)
+#endif
 			for (long id = 0; id < n; ++id) {
 				// the bodies and their states and shapes ahead (without, it waited on each body's
 				// state, 12% of the estimate)
@@ -264,7 +268,7 @@ namespace flexa {
 				for (long id = 0; id < (long)nb; ++id) {
 					flexa::prefetchBodiesAhead(body, (long)nb, id, [](const Body& c) {
 						flexa::prefetch(c.bound.get(), sizeof(Aabb));
-						if (const State* st = c.state.get()) flexa::prefetch(&st->pos, sizeof(Vector3r));
+						if (const State* st = c.state.get()) flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
 					});
 					sideOf((Body::id_t)id);
 				}
@@ -291,13 +295,13 @@ namespace flexa {
 					for (int a = 0; a < el.nNodes; ++a) {
 						const State* st = flexa::stateOf(scene, el.nodes[a]);
 						if (!st) return sd;
-						sd.x[a]  = st->pos;
+						sd.x[a]  = st->se3.position; // (not pos, a reference: one line more to wait for)
 						sd.reach = std::max(sd.reach, flex::reachableDistance(sd.x[a], *ref[a], sweep));
 						sd.size  = std::max(sd.size, sd.x[a].cwiseAbs().maxCoeff());
 					}
 					sd.n = el.nNodes;
 				} else if (sb[id].sphere) {
-					sd.x[0]  = b->state->pos;
+					sd.x[0]  = b->state->se3.position;
 					sd.reach = flex::reachableDistance(sd.x[0], b->bound->refPos, sweep);
 					sd.size  = sd.x[0].cwiseAbs().maxCoeff();
 					sd.n     = 1;

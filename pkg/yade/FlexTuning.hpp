@@ -19,7 +19,9 @@ namespace flexa {
 		/// FlexTimeStepper: interactions for the parallel contact pass.
 		constexpr long kStepperParallelMin = 4096;
 		/// FlexInteractionLoop: spheres for the parallel pass that fills the table of centres.
-		constexpr long kSphereTableParallelMin = 8192;
+		constexpr long kSphereTableParallelMin = 1024;
+		/// FlexTimeStepper: bodies for the parallel pass that gathers what the estimate needs of each.
+		constexpr long kStepperBodiesParallelMin = 1024;
 		/// FlexInteractionLoop.threadSumsMin: interactions for per-thread force sums.
 		constexpr long kThreadSumsMin = 4096;
 
