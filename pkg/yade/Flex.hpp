@@ -275,7 +275,7 @@ class FlexElementEngine : public GlobalEngine {
 	std::vector<Link> links;
 	static Link       linkOf(const Scene* scene, const Body* b); // all null if not computable
 	void              refresh();
-	void              facetForces(std::vector<Body::id_t>& broken); // membranes (FlexFacet)
+	void              facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi); // membranes (FlexFacet); [lo, hi]: the node ids added to the sinks
 
 public:
 	void action() override;

@@ -10,6 +10,7 @@
 #include <lib/factory/ClassFactory.hpp>
 
 #include <algorithm>
+#include <limits>
 #ifdef YADE_OPENMP
 #include <omp.h>
 #endif
@@ -151,6 +152,8 @@ void FlexElementEngine::action()
 	// energies summed here and booked once per step (not twice per element)
 	Real eElastic = 0, ePlastic = 0;
 	long nPlastic = 0;
+	// the smallest and largest node id added to the threads' sinks: their merge visits only these
+	long sinkLo = std::numeric_limits<long>::max(), sinkHi = -1;
 	// Serial loop (below parallelMin, and always on one thread): forces and moments summed per
 	// node here and added to the ForceContainer once per node (each addForce costs a thread
 	// lookup and a size check)
@@ -174,7 +177,8 @@ void FlexElementEngine::action()
 	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic)
+#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic) \
+        reduction(min : sinkLo) reduction(max : sinkHi)
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (ahead && k + flexa::tuning::kAheadElements < n) { // the shape and node states of the element 4 ahead (from the table: no chain;
@@ -234,6 +238,10 @@ void FlexElementEngine::action()
 #ifdef YADE_OPENMP
 			if (!sinks.empty()) sk = &sinks[omp_get_thread_num()];
 #endif
+			if (sk) {
+				sinkLo = std::min(sinkLo, (long)std::min(c.node1, c.node2));
+				sinkHi = std::max(sinkHi, (long)std::max(c.node1, c.node2));
+			}
 			flexa::addForce(scene, sk, c.node1, f.Fi);
 			flexa::addForce(scene, sk, c.node2, f.Fj);
 			if (!bar) {
@@ -265,8 +273,8 @@ void FlexElementEngine::action()
 		flexa::addEnergy(scene, eElastic, "flexBondElastic", elastIx, true);
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
 	}
-	if (!facets.empty()) facetForces(broken);
-	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size());
+	if (!facets.empty()) facetForces(broken, sinkLo, sinkHi);
+	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size(), sinkHi < 0 ? 0 : sinkLo, sinkHi + 1);
 	eraseNeighbourPairs(scene);
 	if (broken.empty()) return;
 	std::sort(broken.begin(), broken.end()); // same order whatever the thread count
@@ -289,8 +297,9 @@ void FlexElementEngine::action()
 	refresh();
 }
 
-void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
+void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi)
 {
+	long sinkLo = lo, sinkHi = hi;
 	const bool              energy  = scene->trackEnergy;
 	const Material*         lastMat = nullptr;
 	const FlexMembraneMat*  mat     = nullptr;
@@ -301,7 +310,8 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 	Real                    eMemb = 0, ePress = 0;
 	long                    nPress = 0;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law) reduction(+ : eMemb, ePress, nPress)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) firstprivate(lastMat, mat, law) reduction(+ : eMemb, ePress, nPress) \
+        reduction(min : sinkLo) reduction(max : sinkHi)
 #endif
 	for (long k = 0; k < n; ++k) {
 		const Body::id_t id = facets[k];
@@ -334,8 +344,13 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 #ifdef YADE_OPENMP
 		if (!sinks.empty() && n >= parallelMin) sk = &sinks[omp_get_thread_num()];
 #endif
-		for (int a = 0; a < 3; ++a)
+		for (int a = 0; a < 3; ++a) {
+			if (sk) {
+				sinkLo = std::min(sinkLo, (long)ids[a]);
+				sinkHi = std::max(sinkHi, (long)ids[a]);
+			}
 			flexa::addForce(scene, sk, ids[a], r.f[a] + fp);
+		}
 		b->state->pos = (x[0] + x[1] + x[2]) / 3;
 		b->state->vel = (s[0]->vel + s[1]->vel + s[2]->vel) / 3;
 		if (energy) {
@@ -357,6 +372,8 @@ void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken)
 		flexa::addEnergy(scene, eMemb, "flexMembraneElastic", membIx, true);
 		if (nPress) flexa::addEnergy(scene, ePress, "flexPressureWork", pressIx, false);
 	}
+	lo = sinkLo;
+	hi = sinkHi;
 }
 
 } // namespace yade

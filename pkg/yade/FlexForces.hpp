@@ -68,8 +68,10 @@ namespace flexa {
 	/// Adds the sums to scene->forces: the container's own per-thread sums first (sync: forces
 	/// that other functors added with addForce), then, per body, the threads' sums in thread order
 	/// (addForceUnsynced), and zeroes them. A later addForce marks the container unsynced again
-	/// and the next sync adds on top (ForceContainer::sync accumulates). Defined in FlexLoop.cpp.
-	void mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads);
+	/// and the next sync adds on top (ForceContainer::sync accumulates). Only the ids in
+	/// [from, to) are visited (to < 0: every body): the caller's promise that its sinks wrote no
+	/// other id since the last merge. Defined in FlexLoop.cpp.
+	void mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, long from = 0, long to = -1);
 
 	/// scene->energy->add without building a std::string from the name at every call (the hot
 	/// path, once the term has its index), called per contact, element and body.

@@ -31,7 +31,7 @@ YADE_PLUGIN((FlexInteractionLoop));
 
 using namespace flexa::loop;
 
-void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
+void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, long from, long to)
 {
 	const long n = sums.f.empty() ? 0 : (long)sums.f[0].size();
 	if (n == 0) return;
@@ -39,10 +39,11 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads)
 	fc.addMaxId((Body::id_t)n - 1); // so that sync() sizes the sums to every body
 	fc.sync();
 	std::vector<Vector3r>*f = sums.f.data(), *t = sums.t.data();
+	const long             lo = std::max(from, 0L), hi = to < 0 ? n : std::min(to, n);
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads)
 #endif
-	for (long id = 0; id < n; ++id) {
+	for (long id = lo; id < hi; ++id) {
 		Vector3r F = f[0][id], T = t[0][id];
 		f[0][id] = Vector3r::Zero();
 		t[0][id] = Vector3r::Zero();
