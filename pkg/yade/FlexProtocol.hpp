@@ -70,13 +70,24 @@ namespace flexa {
 	/// by an erase no longer matches and is simply tested).
 	struct UnreachableMarks {
 		const Scene*                                   scene = nullptr;         // null: no marks
+		shared_ptr<InteractionContainer>               interactions;            // the container they index (kept alive: see valid)
 		std::vector<std::pair<Body::id_t, Body::id_t>> pair;                    // by Interaction::linIx; (-1, -1): none
 		unsigned long                                  generation = 0;          // one more at each new set of marks
 		shared_ptr<Engine>                             collider;                // the InsertionSortCollider whose runs retire them (kept alive)
 		const int*                                     runs          = nullptr; // its run count (InsertionSortCollider::numAction)
 		int                                            runsAtMarking = -1;
-		/// Whether the marks hold for scene s (made for it, and its collider has not run since).
-		bool valid(const Scene* s) const { return scene == s && runs && *runs == runsAtMarking; }
+		size_t                                         colliderIx    = 0; // its place in the scene's engine list
+		/// Whether the marks hold for scene s: made for it, its collider still the one in its engine
+		/// list (O.engines replaced: the new list's collider has its own bounds, and the old one's
+		/// count would never move again), and that collider has not run since. A scene loaded later
+		/// (O.load, O.loadTmp, O.reset) may be allocated where the marked one was: the marks also
+		/// name the scene's interaction container, which they keep alive (as the collider), so
+		/// that no new one can be where it was.
+		bool valid(const Scene* s) const
+		{
+			return scene == s && s->interactions.get() == interactions.get() && colliderIx < s->engines.size()
+			        && s->engines[colliderIx].get() == collider.get() && runs && *runs == runsAtMarking;
+		}
 	};
 	inline UnreachableMarks& unreachableMarks()
 	{

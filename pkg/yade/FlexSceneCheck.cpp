@@ -242,9 +242,12 @@ namespace flexa {
 	{
 		static const Scene*      lastScene = nullptr;
 		static long              lastIter  = -1;
+		// (and its interaction container, kept alive: a scene loaded later where this one was, at
+		// the same iteration, is checked too; never destroyed, as the marks of FlexProtocol.hpp)
+		static shared_ptr<InteractionContainer>& lastContainer = *new shared_ptr<InteractionContainer>;
 		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
 		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
-		if (!force && scene == lastScene && scene->iter == lastIter) return;
+		if (!force && scene == lastScene && scene->iter == lastIter && scene->interactions == lastContainer) return;
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
 		// table of node ids, not by visiting the node bodies again
@@ -307,8 +310,9 @@ namespace flexa {
 			checkNodes(scene, *body[id], e.nodes, e.nNodes, isNode);
 			checkRadius(*body[id], e.radius);
 		}
-		lastScene = scene;
-		lastIter  = scene->iter;
+		lastScene     = scene;
+		lastIter      = scene->iter;
+		lastContainer = scene->interactions;
 	}
 
 	void checkTimeStep(const Scene* scene)

@@ -186,6 +186,8 @@ namespace flexa {
 					marks.collider      = flexa::insertionSortCollider(scene);
 					marks.runs          = &static_cast<const InsertionSortCollider&>(*marks.collider).numAction;
 					marks.runsAtMarking = *marks.runs;
+					marks.interactions  = scene->interactions;
+					marks.colliderIx    = std::find(scene->engines.begin(), scene->engines.end(), marks.collider) - scene->engines.begin();
 					marks.scene         = scene;
 				}
 				Real w2  = 0;

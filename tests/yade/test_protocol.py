@@ -61,3 +61,23 @@ def test_marks_hold_until_the_collider_runs(scene):
     assert col.numAction == runs and dt.skippedPairs == 1
     # that the collider's next run retires them: test_timestep.py's teleported body (the contact
     # is found one step late, not never)
+
+
+def test_marks_are_not_read_after_the_engines_are_replaced(scene):
+    """The marks belong to the collider whose runs retire them. With O.engines replaced (here by a
+    list without the time stepper, at a fixed step), the old collider never runs again: its marks
+    must not be read, else the marked pair would be left out for good. The two spheres of the test
+    above, marked; then the second moved into contact (5 mm overlap) and the engines replaced:
+    the contact is found on the first step."""
+    O.reset()
+    sphere((0, 0, 0), 0.01)
+    sphere((0.022, 0.022, 0), 0.01)
+    O.engines = yf.engines(gravity=(0, 0, 0), verlet=0.002)
+    O.step()
+    assert _engine("flexDt").unreachablePairs() == [(0, 1)] and O.interactions.countReal() == 0
+    O.bodies[1].state.pos = (0.015, 0, 0)
+    O.engines = [e for e in yf.engines(gravity=(0, 0, 0), verlet=0.002) if e.label != "flexDt"]
+    O.dt = 1e-6
+    O.step()
+    assert O.interactions.countReal() == 1
+    assert O.forces.f(1)[0] > 0  # pushed away from the first sphere
