@@ -299,7 +299,7 @@ void FlexElementEngine::action()
 
 void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi)
 {
-	long sinkLo = lo, sinkHi = hi;
+	long                    sinkLo = lo, sinkHi = hi;
 	const bool              energy  = scene->trackEnergy;
 	const Material*         lastMat = nullptr;
 	const FlexMembraneMat*  mat     = nullptr;

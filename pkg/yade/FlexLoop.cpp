@@ -39,7 +39,7 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, lo
 	fc.addMaxId((Body::id_t)n - 1); // so that sync() sizes the sums to every body
 	fc.sync();
 	std::vector<Vector3r>*f = sums.f.data(), *t = sums.t.data();
-	const long             lo = std::max(from, 0L), hi = to < 0 ? n : std::min(to, n);
+	const long            lo = std::max(from, 0L), hi = to < 0 ? n : std::min(to, n);
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads)
 #endif

@@ -175,9 +175,9 @@ public:
 			q.x               = x[0];
 			q.y               = x[1];
 			q.z               = x[2];
-			q.r           = static_cast<const Sphere*>(sh)->radius;
-			mv[id].vel    = st->vel;
-			mv[id].angVel = st->angVel;
+			q.r               = static_cast<const Sphere*>(sh)->radius;
+			mv[id].vel        = st->vel;
+			mv[id].angVel     = st->angVel;
 		}
 		if (apart.readers) {
 			apart.p = p;

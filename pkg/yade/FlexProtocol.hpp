@@ -34,6 +34,7 @@
 #pragma once
 #include "Flex.hpp"
 
+#include <boost/weak_ptr.hpp>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -70,23 +71,28 @@ namespace flexa {
 	/// by an erase no longer matches and is simply tested).
 	struct UnreachableMarks {
 		const Scene*                                   scene = nullptr;         // null: no marks
-		shared_ptr<InteractionContainer>               interactions;            // the container they index (kept alive: see valid)
+		boost::weak_ptr<InteractionContainer>          interactions;            // the container they index
 		std::vector<std::pair<Body::id_t, Body::id_t>> pair;                    // by Interaction::linIx; (-1, -1): none
 		unsigned long                                  generation = 0;          // one more at each new set of marks
-		shared_ptr<Engine>                             collider;                // the InsertionSortCollider whose runs retire them (kept alive)
+		boost::weak_ptr<Engine>                        collider;                // the InsertionSortCollider whose runs retire them
 		const int*                                     runs          = nullptr; // its run count (InsertionSortCollider::numAction)
 		int                                            runsAtMarking = -1;
 		size_t                                         colliderIx    = 0; // its place in the scene's engine list
 		/// Whether the marks hold for scene s: made for it, its collider still the one in its engine
 		/// list (O.engines replaced: the new list's collider has its own bounds, and the old one's
-		/// count would never move again), and that collider has not run since. A scene loaded later
-		/// (O.load, O.loadTmp, O.reset) may be allocated where the marked one was: the marks also
-		/// name the scene's interaction container, which they keep alive (as the collider), so
-		/// that no new one can be where it was.
+		/// count would never move again), and that collider has not run since (its count is read
+		/// only then: the list holds it). A scene loaded later (O.load, O.loadTmp, O.reset) may be
+		/// allocated where the marked one was: the container and the collider are compared by
+		/// their shared owner, which the weak references keep from being reused (they keep neither
+		/// object alive: released with their scene, under Python's lock, as before).
 		bool valid(const Scene* s) const
 		{
-			return scene == s && s->interactions.get() == interactions.get() && colliderIx < s->engines.size()
-			        && s->engines[colliderIx].get() == collider.get() && runs && *runs == runsAtMarking;
+			return scene == s && sameOwner(interactions, s->interactions) && colliderIx < s->engines.size()
+			        && sameOwner(collider, s->engines[colliderIx]) && runs && *runs == runsAtMarking;
+		}
+		template <class T> static bool sameOwner(const boost::weak_ptr<T>& w, const shared_ptr<T>& p)
+		{
+			return p && !w.owner_before(p) && !p.owner_before(w);
 		}
 	};
 	inline UnreachableMarks& unreachableMarks()

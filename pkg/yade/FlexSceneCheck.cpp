@@ -240,14 +240,15 @@ namespace flexa {
 
 	void checkScene(const Scene* scene, bool force)
 	{
-		static const Scene*      lastScene = nullptr;
-		static long              lastIter  = -1;
-		// (and its interaction container, kept alive: a scene loaded later where this one was, at
-		// the same iteration, is checked too; never destroyed, as the marks of FlexProtocol.hpp)
-		static shared_ptr<InteractionContainer>& lastContainer = *new shared_ptr<InteractionContainer>;
-		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
-		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
-		if (!force && scene == lastScene && scene->iter == lastIter && scene->interactions == lastContainer) return;
+		static const Scene* lastScene = nullptr;
+		static long         lastIter  = -1;
+		// (and its interaction container, by its shared owner, which the weak reference keeps from
+		// being reused: a scene loaded later where this one was, at the same iteration, is checked
+		// too; never destroyed, as the marks of FlexProtocol.hpp)
+		static boost::weak_ptr<InteractionContainer>& lastContainer = *new boost::weak_ptr<InteractionContainer>;
+		static std::vector<char>                      isNode, isElement; // per body id, filled by the pass over the bodies
+		static std::vector<ElementRecord>             elements;          // per body id, valid where isElement
+		if (!force && scene == lastScene && scene->iter == lastIter && UnreachableMarks::sameOwner(lastContainer, scene->interactions)) return;
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
 		// table of node ids, not by visiting the node bodies again

@@ -183,12 +183,13 @@ namespace flexa {
 					}
 				skippedCount = skipped;
 				if (mark && canSkip) { // valid until the collider runs (else none: marks.scene stays null)
-					marks.collider      = flexa::insertionSortCollider(scene);
-					marks.runs          = &static_cast<const InsertionSortCollider&>(*marks.collider).numAction;
-					marks.runsAtMarking = *marks.runs;
-					marks.interactions  = scene->interactions;
-					marks.colliderIx    = std::find(scene->engines.begin(), scene->engines.end(), marks.collider) - scene->engines.begin();
-					marks.scene         = scene;
+					const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
+					marks.collider                    = collider;
+					marks.runs                        = &static_cast<const InsertionSortCollider&>(*collider).numAction;
+					marks.runsAtMarking               = *marks.runs;
+					marks.interactions                = scene->interactions;
+					marks.colliderIx = std::find(scene->engines.begin(), scene->engines.end(), collider) - scene->engines.begin();
+					marks.scene      = scene;
 				}
 				Real w2  = 0;
 				stiffest = -1;
@@ -270,7 +271,8 @@ namespace flexa {
 				for (long id = 0; id < (long)nb; ++id) {
 					flexa::prefetchBodiesAhead(body, (long)nb, id, [](const Body& c) {
 						flexa::prefetch(c.bound.get(), sizeof(Aabb));
-						if (const State* st = c.state.get()) flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
+						if (const State* st = c.state.get())
+							flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
 					});
 					sideOf((Body::id_t)id);
 				}

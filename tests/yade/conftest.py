@@ -28,10 +28,10 @@ assert O.numThreads == 1, "in-process YADE tests must run with one OpenMP thread
 
 @pytest.fixture(scope="session")
 def module_cache(tmp_path_factory, request):
-    """The folder of the filled modules the tests load (filled on first use, then loaded from
-    there): a temporary one, never the user's cache. Under pytest-xdist (scripts/test runs two
-    workers) the workers share one: the cache's lock makes the second wait for a module the
-    first is filling, then load it."""
+    """The folder of the filled modules the tests load (the reduced module filled when the folder
+    is first asked for, the others on first use, then loaded from there): a temporary one, never
+    the user's cache. Under pytest-xdist (scripts/test runs two workers) the workers share one:
+    the cache's lock makes the second wait for a module the first is filling, then load it."""
     if not hasattr(request.config, "workerinput"):  # not an xdist worker
         path = str(tmp_path_factory.mktemp("module_cache"))
     else:
