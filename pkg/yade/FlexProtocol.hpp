@@ -66,6 +66,10 @@ namespace flexa {
 		np.pairs.emplace_back(a, b);
 	}
 
+	/// Whether p has the owner w was made from: an object told apart from one allocated later at
+	/// its address (w keeps the owner, not the object, from being reused).
+	template <class T> inline bool sameOwner(const boost::weak_ptr<T>& w, const shared_ptr<T>& p) { return p && !w.owner_before(p) && !p.owner_before(w); }
+
 	// ---- 2. unreachable marks
 	/// A mark is the pair's ids at its index in the interaction container (an interaction moved
 	/// by an erase no longer matches and is simply tested).
@@ -89,10 +93,6 @@ namespace flexa {
 		{
 			return scene == s && sameOwner(interactions, s->interactions) && colliderIx < s->engines.size()
 			        && sameOwner(collider, s->engines[colliderIx]) && runs && *runs == runsAtMarking;
-		}
-		template <class T> static bool sameOwner(const boost::weak_ptr<T>& w, const shared_ptr<T>& p)
-		{
-			return p && !w.owner_before(p) && !p.owner_before(w);
 		}
 	};
 	inline UnreachableMarks& unreachableMarks()

@@ -248,7 +248,7 @@ namespace flexa {
 		static boost::weak_ptr<InteractionContainer>& lastContainer = *new boost::weak_ptr<InteractionContainer>;
 		static std::vector<char>                      isNode, isElement; // per body id, filled by the pass over the bodies
 		static std::vector<ElementRecord>             elements;          // per body id, valid where isElement
-		if (!force && scene == lastScene && scene->iter == lastIter && UnreachableMarks::sameOwner(lastContainer, scene->interactions)) return;
+		if (!force && scene == lastScene && scene->iter == lastIter && sameOwner(lastContainer, scene->interactions)) return;
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
 		// table of node ids, not by visiting the node bodies again
