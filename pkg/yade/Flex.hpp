@@ -107,7 +107,12 @@ public:
 		((Real, strain, 0, Attr::readonly, "Axial strain (L-L0)/L0 [-]"))
 		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]"))
 		((Real, maxStrain, 0, Attr::readonly, "Wire law: largest axial strain reached on the curve [-]"))
-		((Real, wireSlack, 0, Attr::readonly, "Wire law: slack strain of this link, drawn once at attach from FlexMat.wireSeed and the node ids [-]")),
+		((Real, wireSlack, 0, Attr::readonly, "Wire law: slack strain of this link, drawn once at attach from FlexMat.wireSeed and the node ids [-]"))
+		((Vector3r, hookAxis, Vector3r::Zero(), , "Hooked knot: set before attach to make this link the knot of two hooked wire bends (node1's and node2's), which turn about each other but cannot pass through each other: node1 stays on its side of node2 along this direction (global, any length; zero: no stop). At attach it is fixed in node1's frame (it turns with node1) and the gap (x1 - x2) . n at rest becomes the stop (pkg/kernel/Hook.hpp)."))
+		((Vector3r, hookLocal, Vector3r::Zero(), Attr::readonly, "Hooked knot: the unit axis in node1's frame [-]"))
+		((Real, hookGap, 0, Attr::readonly, "Hooked knot: the gap (x1 - x2) . n at rest, the stop [m]"))
+		((Real, hookStiffness, 0, Attr::readonly, "Hooked knot: the stop's stiffness, the link's EA/L0 [N/m]; 0: no stop"))
+		((Real, hookForce, 0, Attr::readonly, "Hooked knot: the stop's force this step, >= 0 [N]")),
 		createIndex();,
 		.def("attach", &FlexCylinder::attach, (boost::python::arg("id")), "Bind to the nodes (called by yadeflex.cylinder).")
 	);

@@ -7,6 +7,8 @@
 #include "FlexSceneCheck.hpp"
 #include "FlexWire.hpp"
 
+#include <kernel/Hook.hpp>
+
 #include <lib/factory/ClassFactory.hpp>
 
 #include <algorithm>
@@ -74,7 +76,7 @@ namespace {
 	// stiffness (bendingFactor 0: a bar, or a truss link of a wire mesh) is axial only: no
 	// rotations to compute and no moments (tests/kernel/test_beam.cpp: the same forces bit for bit
 	// as the beam with EI = GJ = 0). ew: the wire curve's elastic modulus (flexa::wireAxial).
-	flex::BeamForces cylinderForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
+	flex::BeamForces bondForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
 	{
 		const bool wire = mat.isWire();
 		if (mat.bendingFactor == 0) {
@@ -92,6 +94,22 @@ namespace {
 		strain                         = (kin.L - c.L0) / c.L0;
 		return wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(mat, c.radius), flexa::wireAxial(mat, c, strain, ew))
 		            : flex::beamForces(kin, rest, flexa::section(mat, c.radius), flexa::axialLaw(mat, c.radius), st);
+	}
+
+	// The bond's forces, and a hooked knot's stop (FlexCylinder.hookAxis; kernel/Hook.hpp) on top:
+	// its moment goes to node1 only, so a hooked bar link has moments.
+	flex::BeamForces cylinderForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
+	{
+		flex::BeamForces f = bondForces(c, mat, si, sj, ew, st, strain);
+		if (c.hookStiffness > 0) {
+			const flex::HookForces h = flex::hookForces(si.pos, sj.pos, si.ori, c.hookLocal, c.hookGap, c.hookStiffness);
+			f.Fi += h.Fi;
+			f.Fj -= h.Fi;
+			f.Mi += h.Mi;
+			f.elasticEnergy += h.energy;
+			c.hookForce = h.force;
+		}
+		return f;
 	}
 
 	// The serial loop's sums per node (accF, accM by slot) into the ForceContainer. Without
@@ -210,7 +228,7 @@ void FlexElementEngine::action()
 		if (!mat) continue;
 		State *                si = lk.si, *sj = lk.sj;
 		const bool             wire = mat->isWire();
-		const bool             bar  = mat->bendingFactor == 0;
+		const bool             bar  = mat->bendingFactor == 0 && !(c.hookStiffness > 0); // no moments
 		flex::AxialState       st { c.plasticStrain, c.hardeningVar };
 		Real                   strain;
 		const flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);

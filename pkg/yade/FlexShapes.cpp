@@ -1,6 +1,7 @@
 // yade-flex adapter: shapes, material, geometry, bound (GPL-2.0-or-later).
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
+#include <kernel/Hook.hpp>
 #include <kernel/TimeStep.hpp>
 
 #include <kernel/WireLaw.hpp>
@@ -80,7 +81,21 @@ void FlexCylinder::attach(int selfId)
 		plasticStrain = 0;
 		wireSlack     = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
 	}
-	omega2 = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
+	omega2        = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
+	hookLocal     = Vector3r::Zero();
+	hookGap       = 0;
+	hookStiffness = 0;
+	hookForce     = 0;
+	if (hookAxis != Vector3r::Zero()) {
+		if (!finite(hookAxis)) bad(selfId, "hookAxis must be finite");
+		const Vector3r n = hookAxis.normalized();
+		hookLocal        = s1.ori.conjugate() * n;
+		hookGap          = (s1.pos - s2.pos).dot(n);
+		hookStiffness    = sec.EA / L0;
+		// the stop's modes added to the bond's (the largest eigenvalue of a sum is at most the sum
+		// of theirs); its lever |n x (x1 - x2)| is at most the link's length
+		omega2 += flex::hookMaxOmega2(hookStiffness, L0, sh.mass, sh.inertia);
+	}
 	for (State* s : { &s1, &s2 }) {
 		s->mass += sh.mass;
 		s->inertia += Vector3r::Constant(sh.inertia);

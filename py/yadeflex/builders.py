@@ -90,8 +90,10 @@ def node(pos, radius, material=None, fixed=False):
     return i
 
 
-def cylinder(node1, node2, radius, material):
-    """A deformable cylinder (capsule, bond) between two FlexNode bodies. Returns its id."""
+def cylinder(node1, node2, radius, material, hook_axis=None):
+    """A deformable cylinder (capsule, bond) between two FlexNode bodies. Returns its id.
+    hook_axis: a direction (global): the link is a hooked knot whose node1 stays on its side of
+    node2 along it (FlexCylinder.hookAxis); None: none."""
     r = _positive("cylinder radius", radius)
     mat = _material(material)
     for n in (node1, node2):
@@ -104,6 +106,11 @@ def cylinder(node1, node2, radius, material):
     C.body_budget("cylinder", (node1, node2), 1)
     b = Body()
     b.shape = FlexCylinder(node1=node1, node2=node2, radius=r)
+    if hook_axis is not None:
+        ax = check_finite("hook axis", hook_axis)
+        if ax.norm() == 0:
+            raise C.BadValue("hook axis", hook_axis, "a nonzero direction")
+        b.shape.hookAxis = ax
     b.material = mat
     b.state.pos = 0.5 * (O.bodies[node1].state.pos + O.bodies[node2].state.pos)
     i = O.bodies.append(b)

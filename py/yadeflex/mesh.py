@@ -22,16 +22,20 @@ Knot models (chain_link_panel's knots option):
   detect; the legs that meet there are bonded neighbours that never touch. The node also
   carries moments between the two spirals (beam links), which a real hook does not. The play
   of the hook is the links' stochastic slack (TECCO_MESH_CALIBRATION).
-- knots=True (planar panels): each inner knot is the two bends as they lie in the mesh, their
-  apexes crossed one wire diameter d apart in the plane and one d apart across it (the wires
-  lie on each other: the hook's out-of-plane eccentricity), joined by a knot link (a beam of
-  the wire's section, 200 GPa). The knot is then an eccentric joint; its play stays the links'
-  slack (TECCO_MESH_CALIBRATION). The link is a beam, not a hinge: a hinged link lets the two
-  bends swing through each other (most knots of a panel pulled to rupture do), which the wires wrapped
-  around each other cannot do; a hinge that cannot pass needs a hook contact the plugin does
-  not have. Nothing in it is fitted to the mesh datasheet: d, the wire section and E are the
-  wire's. Its time step is about 20 times shorter (the short knot links; FlexTimeStepper
-  bounds each bond with its own mass).
+- knots=True or 'beam' (planar panels): each inner knot is the two bends as they lie in the
+  mesh, their apexes crossed one wire diameter d apart in the plane and one d apart across it
+  (the wires lie on each other: the hook's out-of-plane eccentricity), joined by a knot link (a
+  beam of the wire's section, 200 GPa). The knot is then an eccentric joint; its play stays the
+  links' slack (TECCO_MESH_CALIBRATION). A plain hinged link would let the two bends swing
+  through each other (most knots of a panel pulled to rupture do), which the wires wrapped
+  around each other cannot do.
+- knots='hook' (planar panels): the same two apexes joined by a hinged bar (axial only) with a
+  stop (FlexCylinder.hookAxis, pkg/kernel/Hook.hpp): the bends turn about each other freely,
+  but pulled apart the left bend bears on the right one along the hook's axis (across the
+  spirals, turning with the left bend) and cannot pass it.
+Nothing in either knot model is fitted to the mesh datasheet: d, the wire section and E are
+the wire's. Their time step is about 20 times shorter (the short knot links; FlexTimeStepper
+bounds each bond with its own mass).
 """
 import math
 
@@ -96,15 +100,29 @@ def _spirals(nx, ny, node_of, r, mat):
     return spirals
 
 
-def knot_bar(label="tecco_knot", young=200e9):
-    """Material of the knot links (see _build_knotted): a linear-elastic steel beam of the
-    wire's E = 200 GPa (bending_factor 1: the two bends cannot swing through each other); never
-    ruptures (a knot fails by the wire breaking at its bend, which the legs' wire law carries)."""
+def knot_bar(label="tecco_knot", young=200e9, bending_factor=1.0):
+    """Material of the knot links (see _build_knotted): a linear-elastic steel link of the
+    wire's E = 200 GPa; bending_factor 1: a beam (the two bends cannot turn about each other),
+    0: a hinged bar (the hooked knot: the stop keeps them from passing). Never ruptures (a knot
+    fails by the wire breaking at its bend, which the legs' wire law carries)."""
     from .materials import flex_material
-    return flex_material(young=young, density=7850.0, bending_factor=1.0, label=label)
+    return flex_material(young=young, density=7850.0, bending_factor=bending_factor, label=label)
 
 
-def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material):
+KNOT_MODELS = ("shared", "beam", "hook")
+
+
+def knot_model(knots):
+    """The knot model's name from chain_link_panel's knots argument: False/'shared', True/'beam', 'hook'."""
+    if isinstance(knots, str) and knots.strip().lower() in KNOT_MODELS:
+        return knots.strip().lower()
+    try:
+        return "beam" if C.boolean("knots", knots) else "shared"
+    except C.BadValue:
+        raise C.BadValue("knots", knots, "one of False ('shared'), True ('beam') or 'hook'") from None
+
+
+def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material, hook=False):
     """Planar panel whose knots are two hooked bends (knots=True of chain_link_panel).
 
     At an inner knot (i, k) the bend of the spiral on the left (s = i - 1) is wrapped around
@@ -134,7 +152,9 @@ def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material):
         left = B.node(p + Vector3(0.5 * d, 0, -0.5 * d), r, mat)
         right = B.node(p + Vector3(-0.5 * d, 0, 0.5 * d), r, mat)
         apex[(i - 1, i, k)], apex[(i, i, k)] = left, right
-        links.append(B.cylinder(left, right, r, kmat))
+        # hook: the left bend stays right of the right one (+x, turning with the left bend): pulled
+        # apart, its wire bears on the other's; pushed together, the two slide freely
+        links.append(B.cylinder(left, right, r, kmat, hook_axis=(1, 0, 0) if hook else None))
     spirals = _spirals(nx, ny, lambda s, i, k: apex[(s, i, k)], r, mat)
     at = {}
     for (s, i, k), n in apex.items():
@@ -165,17 +185,21 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     """Planar chain-link panel in the plane z = origin.z: x across the spirals (longitudinal,
     width [m]), y along them (height [m]); rhombus diagonals dx, dy [m]. The sizes are rounded
     to whole half-diagonals (the returned params give the built ones).
-    knots: False (default), each knot one node shared by the two spirals; True, each inner knot
-    two crossed bend apexes with the hook's eccentricity joined by a knot link of
-    knot_material (None: knot_bar()); see _build_knotted.
+    knots: False or 'shared' (default), each knot one node shared by the two spirals; True or
+    'beam', each inner knot two crossed bend apexes with the hook's eccentricity joined by a knot
+    link of knot_material (None: knot_bar(), a beam); 'hook', the same apexes joined by a hinged
+    bar (knot_material None: knot_bar(bending_factor=0)) with a stop that keeps the two bends from
+    passing through each other (FlexCylinder.hookAxis); see _build_knotted.
     Returns dict(nodes={(i, k): id, or [ids] with knots}, cylinders (the legs), spirals, edges,
     knot_links, params)."""
     o = B.check_finite("panel origin", origin)
     a, h, nx, ny = panel_counts(width, height, dx, dy)
     links = []
-    if C.boolean("knots", knots):
-        ids, spirals, links = _build_knotted(nx, ny, a, h, o, material, wire_radius,
-                                             knot_material if knot_material is not None else knot_bar())
+    model = knot_model(knots)
+    if model != "shared":
+        hook = model == "hook"
+        kmat = knot_material if knot_material is not None else knot_bar(*(("tecco_knot_hook", 200e9, 0.0) if hook else ()))
+        ids, spirals, links = _build_knotted(nx, ny, a, h, o, material, wire_radius, kmat, hook=hook)
         flat = lambda p: ids[p]
     else:
         ids, spirals = _build(nx, ny, lambda i, k: o + Vector3(i * a, k * h, 0), material, wire_radius)
@@ -184,7 +208,7 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     edges = dict(left=edge(lambda p: p[0] == 0), right=edge(lambda p: p[0] == nx),
                  bottom=edge(lambda p: p[1] == 0), top=edge(lambda p: p[1] == ny))
     return dict(nodes=ids, cylinders=[c for sp in spirals for c in sp], spirals=spirals, edges=edges, knot_links=links,
-                params=dict(width=nx * a, height=ny * h, dx=2 * a, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius, knots=knots))
+                params=dict(width=nx * a, height=ny * h, dx=2 * a, dy=2 * h, nx=nx, ny=ny, wire_radius=wire_radius, knots=model))
 
 
 def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, wire_radius=TECCO_G65_WIRE_RADIUS,
