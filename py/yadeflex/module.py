@@ -105,6 +105,7 @@ LIMITS = dict(
     fill_friction_deg=FRICTION_DEG,
     rolling_friction=ROLLING_FRICTION,
     fill_young=C.Range(1e6, 1e11, "Pa", note="softer grains sink into each other, stiffer ones shorten the step"),
+    fill_deposition_friction_deg=C.Range(0.0, 45.0, "deg", note="at most the fill's friction angle; 0: the densest fill"),
     boulder_mass=C.Range(0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"),
     boulder_density=C.Range(500.0, 2e4, "kg/m3"),
     drop_height=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True, note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"),
@@ -136,6 +137,7 @@ class ModuleParams:
     fill_friction_deg: float = None  # [deg]
     rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
     fill_young: float = None         # [Pa] contact modulus of the grains (override the preset)
+    fill_deposition_friction_deg: float = 0.0  # [deg] the grains' friction while they are densified (0: the densest fill; up to the fill's own friction: looser)
     boulder_mass: float = 800.0      # [kg]
     boulder_shape: str = "cube"      # 'cube' or 'sphere'
     boulder_density: float = 2400.0  # [kg/m3] concrete
@@ -187,6 +189,8 @@ class ModuleParams:
             if getattr(self, k) is not None and not (k == "drop_height" and self.impact_velocity is not None):
                 rng.check(k, getattr(self, k))
         check_fill(self.fill)
+        C.number("fill_deposition_friction_deg", self.fill_deposition_friction_deg,
+                 dataclasses.replace(LIMITS["fill_deposition_friction_deg"], hi=min(45.0, self.preset()["friction_deg"])))
         C.choice("boulder_shape", self.boulder_shape, BOULDER_SHAPES)
         C.choice("n_modules", self.n_modules, N_MODULES)
         C.integer("seed", self.seed, 0, 2 ** 31 - 1)
@@ -275,6 +279,8 @@ class ModuleParams:
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety",
                   "lining_node_mass"):
             d.pop(k)
+        if d["fill_deposition_friction_deg"] == 0:  # (the default: the keys of the fills cached before the option stay)
+            d.pop("fill_deposition_friction_deg")
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
         d["_version"] = 14  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling
@@ -424,7 +430,8 @@ def settle_fill(params, r_in, rnd, progress=None):
     (settle_grains with the module's preset, height, centres and settle damping), the container
     removed. Returns (wall id, grain ids, the kinetic-energy tolerance used)."""
     wall, grains, ke_tol, _ = settle_grains(params.preset(), params.height, r_in, rnd, centers=params.centers(),
-                                            damping=params.settle_damping, progress=progress)
+                                            damping=params.settle_damping, progress=progress,
+                                            deposition_friction_deg=params.fill_deposition_friction_deg)
     return wall, grains, ke_tol
 
 
@@ -451,12 +458,14 @@ def _floor_grains(radius, r_floor, mat):
     return out
 
 
-def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.settle_damping, rough_floor=0.0, keep_container=False, progress=None):
+def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.settle_damping, rough_floor=0.0, keep_container=False, progress=None,
+                  deposition_friction_deg=0.0):
     """Grains of fill preset p settled as the module's fill is, on an empty O: placed on a
     close-packed lattice up to PLACED_HEIGHT x H (solid fraction about 0.33: enough for a dense
     fill above H) in a rigid frictionless container of radius r_in about each centre, on a wall
-    at z = 0, settled frictionless, then with friction (until at rest: kinetic energy and
-    unbalanced force, local damping `damping`), and trimmed to the height H.
+    at z = 0, settled without rolling resistance and frictionless (or at deposition_friction_deg
+    [deg]: a looser fill), then with the fill's friction and rolling resistance (until at rest:
+    kinetic energy and unbalanced force, local damping `damping`), and trimmed to the height H.
     rough_floor > 0: a fixed monolayer of the largest grains covers the floor out to that
     radius, and the fill starts on it. keep_container: the container stays (else removed).
     Returns (wall id, grain ids, the kinetic-energy tolerance used, the container's facet ids)."""
@@ -476,15 +485,18 @@ def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.s
         for pos in _placement(r_in - 1.05 * rmax, z0, PLACED_HEIGHT * H, a):
             rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
             grains.append(_sphere_body(Vector3(cx + pos[0], cy + pos[1], pos[2]), rad, gmat))
-    # densification: no friction, no rolling resistance (a standard DEM filling procedure)
+    # densification: no friction, no rolling resistance (a standard DEM filling procedure); a
+    # deposition friction above 0 leaves the grains less dense
+    dep = C.number("deposition friction", deposition_friction_deg, LIMITS["fill_deposition_friction_deg"])
     phi = gmat.frictionAngle
-    gmat.frictionAngle = 0.0
+    gmat.frictionAngle = math.radians(dep)
     O.engines = fill_engines(p, damping, friction=False)
     O.dt = 1e-5
     ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
+    stage = f"fill, deposited at {dep:g} deg" if dep else "fill, dense"
     if progress:  # the count of grains sets the time a step takes
-        progress(f"fill, dense ({len(grains)} grains placed)", 0, float("nan"), ke_tol)
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, dense", s, ke, tol)))
+        progress(f"{stage} ({len(grains)} grains placed)", 0, float("nan"), ke_tol)
+    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress(stage, s, ke, tol)))
     # then the fill's own friction and rolling resistance, on the existing contacts too (as
     # Ip2_FrictMat_FrictMat_FrictPhys sets it: the smaller angle of the two materials, so the
     # container stays frictionless)

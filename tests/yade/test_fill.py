@@ -59,3 +59,17 @@ def test_heavier_nodes_settle_to_the_same_equilibrium_and_are_restored(scene):
     own, heavy = tip_deflection(1.0), tip_deflection(50.0)
     assert own > 0
     assert abs(heavy - own) <= 1e-5 * own, (heavy, own)
+
+
+def test_deposition_friction_leaves_a_looser_fill(scene):
+    """fill_deposition_friction_deg: densified at the fill's own friction (38 deg, no rolling
+    resistance), the same container packs looser than the dense fill's 0.55-0.70, as a random
+    loose packing of frictional spheres does (0.55-0.60), and still carries itself."""
+    p = ModuleParams(diameter=0.6, height=0.35, fill_deposition_friction_deg=38.0)
+    r_in = 0.27
+    wall, grains, _ = settle_fill(p, r_in, random.Random(1))
+    phi = _core_fraction(grains, r_in, p.height, p.preset()["grain_max"])
+    assert 0.50 < phi < 0.60, phi
+    gs = set(grains)
+    gg = sum(1 for i in O.interactions if i.isReal and i.id1 in gs and i.id2 in gs)
+    assert 2 * gg / len(grains) > 3.0, 2 * gg / len(grains)

@@ -43,6 +43,10 @@ BAD = [
     (["--fill-friction-deg", "90"], "--fill-friction-deg"), (["--fill-friction-deg", "-5"], "--fill-friction-deg"),
     (["--rolling-friction", "-0.1"], "--rolling-friction"), (["--rolling-friction", "inf"], "--rolling-friction"),
     (["--fill-young", "0"], "--fill-young"), (["--fill-young", "1e300"], "--fill-young"),
+    (["--fill-deposition-friction-deg", "-1"], "--fill-deposition-friction-deg"),
+    (["--fill-deposition-friction-deg", "nan"], "--fill-deposition-friction-deg"),
+    (["--fill-deposition-friction-deg", "39"], "--fill-deposition-friction-deg"),  # above gravel's 38
+    (["--fill-deposition-friction-deg", "30", "--fill-friction-deg", "25"], "--fill-deposition-friction-deg"),
     (["--boulder-mass", "0"], "--boulder-mass"), (["--boulder-mass", "1e300"], "--boulder-mass"), (["--boulder-mass", "1e-300"], "--boulder-mass"),
     (["--boulder-shape", "pyramid"], "--boulder-shape"),
     (["--boulder-density", "0"], "--boulder-density"), (["--boulder-density", "1e9"], "--boulder-density"),
