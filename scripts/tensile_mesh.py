@@ -41,7 +41,8 @@ for name, direction, speed, seed, slack, width, *knots in cases:
     s, r, secs = tensile.tecco_panel_test(direction, width, speed, seed, slack, knots=knots)
     rows.append(dict(case=name, knots=knots, direction=direction, loaded_width=s["loaded_width"], speed=speed, seed=seed, slack_scale=s["material"].wireSlackScale,
                      peak_kN_per_m=r["peak"] / 1e3, vs_datasheet=r["peak"] / REF - 1, elongation_at_peak=r["elongation_at_peak"],
-                     ruptured=r["ruptured"], edge_unbalance_at_peak=r["unbalance_at_peak"], steps=r["iterations"], seconds=secs))
+                     ruptured=r["ruptured"], edge_unbalance_at_peak=r["unbalance_at_peak"], steps=r["iterations"], seconds=secs,
+                     quasi_static_peak_kN_per_m=r["quasi_static_peak"] / 1e3, elongation_at_quasi_static_peak=r["elongation_at_quasi_static_peak"]))
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in rows[-1].items()), flush=True)
     tensile.write_curve(f"{out}/mesh_{name}", dict(elongation=r["elongation"], force_kN_per_m=[x / 1e3 for x in r["force_per_m"]]),
                         "elongation [-]", "force per metre width [kN/m]", f"TECCO G65/3, {name}", y="force_kN_per_m",

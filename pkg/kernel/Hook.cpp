@@ -3,20 +3,25 @@
 
 namespace flex {
 
-HookForces hookForces(const Vec3& xi, const Vec3& xj, const Quat& qi, const Vec3& a, double c, double k)
+HookForces hookForces(const Vec3& xi, const Vec3& xj, const Vec3& xa, const Vec3& xb, double c, double k)
 {
 	HookForces   h;
-	const Vec3   n = qi * a;
-	const Vec3   r = xi - xj;
+	const Vec3   m  = xi - 0.5 * (xa + xb);
+	const Vec3   r  = xi - xj;
+	const double lm = m.norm();
+	if (!(lm >= r.norm()) || lm == 0) return h; // a straightened bend no longer hooks
+	const Vec3   n = m / lm;
 	const double g = r.dot(n);
 	if (!(g < c)) return h;
-	h.force  = k * (c - g);
-	h.Fi     = h.force * n;
-	h.Mi     = h.force * n.cross(r);
-	h.energy = 0.5 * h.force * (c - g);
+	const Vec3 t = (r - n * g) / lm;
+	h.force      = k * (c - g);
+	h.Fi         = h.force * (n + t);
+	h.Fj         = -h.force * n;
+	h.Fa         = -0.5 * h.force * t;
+	h.energy     = 0.5 * h.force * (c - g);
 	return h;
 }
 
-double hookMaxOmega2(double k, double lever, double m, double I) { return k * (2.0 / m + lever * lever / I); }
+double hookMaxOmega2(double k, double m) { return 3.5 * k / m; }
 
 } // namespace flex

@@ -108,8 +108,7 @@ public:
 		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]"))
 		((Real, maxStrain, 0, Attr::readonly, "Wire law: largest axial strain reached on the curve [-]"))
 		((Real, wireSlack, 0, Attr::readonly, "Wire law: slack strain of this link, drawn once at attach from FlexMat.wireSeed and the node ids [-]"))
-		((Vector3r, hookAxis, Vector3r::Zero(), , "Hooked knot: set before attach to make this link the knot of two hooked wire bends (node1's and node2's), which turn about each other but cannot pass through each other: node1 stays on its side of node2 along this direction (global, any length; zero: no stop). At attach it is fixed in node1's frame (it turns with node1) and the gap (x1 - x2) . n at rest becomes the stop (pkg/kernel/Hook.hpp)."))
-		((Vector3r, hookLocal, Vector3r::Zero(), Attr::readonly, "Hooked knot: the unit axis in node1's frame [-]"))
+		((Vector2i, hookLegs, Vector2i(-1, -1), , "Hooked knot: set before attach to make this link the knot of two hooked wire bends (node1's and node2's), which turn about each other but cannot pass through each other: the far nodes of node1's two legs. node1 stays on its side of node2 along the direction from their midpoint to node1 (the way node1's bend opens), at least at the gap of the rest state (pkg/kernel/Hook.hpp). (-1, -1): no stop."))
 		((Real, hookGap, 0, Attr::readonly, "Hooked knot: the gap (x1 - x2) . n at rest, the stop [m]"))
 		((Real, hookStiffness, 0, Attr::readonly, "Hooked knot: the stop's stiffness, the link's EA/L0 [N/m]; 0: no stop"))
 		((Real, hookForce, 0, Attr::readonly, "Hooked knot: the stop's force this step, >= 0 [N]")),

@@ -37,7 +37,7 @@ void FlexElementEngine::refresh()
 	slotNode.clear();
 	for (Body::id_t id : cylinders) {
 		const FlexCylinder& c = static_cast<const FlexCylinder&>(*(*scene->bodies)[id]->shape);
-		for (int nid : { c.node1, c.node2 })
+		for (int nid : { c.node1, c.node2, c.hookLegs[0], c.hookLegs[1] }) // (the far nodes of a hooked knot's legs get its stop's forces)
 			if (nid >= 0 && nid < (int)slotOf.size() && slotOf[nid] < 0) {
 				slotOf[nid] = (int)slotNode.size();
 				slotNode.push_back(nid);
@@ -76,7 +76,7 @@ namespace {
 	// stiffness (bendingFactor 0: a bar, or a truss link of a wire mesh) is axial only: no
 	// rotations to compute and no moments (tests/kernel/test_beam.cpp: the same forces bit for bit
 	// as the beam with EI = GJ = 0). ew: the wire curve's elastic modulus (flexa::wireAxial).
-	flex::BeamForces bondForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
+	flex::BeamForces cylinderForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
 	{
 		const bool wire = mat.isWire();
 		if (mat.bendingFactor == 0) {
@@ -94,22 +94,6 @@ namespace {
 		strain                         = (kin.L - c.L0) / c.L0;
 		return wire ? flex::beamForcesWithAxial(kin, rest, flexa::section(mat, c.radius), flexa::wireAxial(mat, c, strain, ew))
 		            : flex::beamForces(kin, rest, flexa::section(mat, c.radius), flexa::axialLaw(mat, c.radius), st);
-	}
-
-	// The bond's forces, and a hooked knot's stop (FlexCylinder.hookAxis; kernel/Hook.hpp) on top:
-	// its moment goes to node1 only, so a hooked bar link has moments.
-	flex::BeamForces cylinderForces(FlexCylinder& c, const FlexMat& mat, const State& si, const State& sj, Real ew, flex::AxialState& st, Real& strain)
-	{
-		flex::BeamForces f = bondForces(c, mat, si, sj, ew, st, strain);
-		if (c.hookStiffness > 0) {
-			const flex::HookForces h = flex::hookForces(si.pos, sj.pos, si.ori, c.hookLocal, c.hookGap, c.hookStiffness);
-			f.Fi += h.Fi;
-			f.Fj -= h.Fi;
-			f.Mi += h.Mi;
-			f.elasticEnergy += h.energy;
-			c.hookForce = h.force;
-		}
-		return f;
 	}
 
 	// The serial loop's sums per node (accF, accM by slot) into the ForceContainer. Without
@@ -226,12 +210,23 @@ void FlexElementEngine::action()
 		}
 		const FlexMat* mat = lastFlex;
 		if (!mat) continue;
-		State *                si = lk.si, *sj = lk.sj;
-		const bool             wire = mat->isWire();
-		const bool             bar  = mat->bendingFactor == 0 && !(c.hookStiffness > 0); // no moments
-		flex::AxialState       st { c.plasticStrain, c.hardeningVar };
-		Real                   strain;
-		const flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);
+		State *          si = lk.si, *sj = lk.sj;
+		const bool       wire = mat->isWire();
+		const bool       bar  = mat->bendingFactor == 0;
+		flex::AxialState st { c.plasticStrain, c.hardeningVar };
+		Real             strain;
+		flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);
+		// a hooked knot's stop (FlexCylinder.hookLegs; kernel/Hook.hpp): forces on the link's nodes
+		// and on the far nodes of node1's legs
+		flex::HookForces hook;
+		if (c.hookStiffness > 0) {
+			const State *sa = flexa::stateOf(scene, c.hookLegs[0]), *sb = flexa::stateOf(scene, c.hookLegs[1]);
+			if (sa && sb) hook = flex::hookForces(si->pos, sj->pos, sa->pos, sb->pos, c.hookGap, c.hookStiffness);
+			c.hookForce = hook.force;
+			f.Fi += hook.Fi;
+			f.Fj += hook.Fj;
+			f.elasticEnergy += hook.energy;
+		}
 		if (!wire) {
 			c.plasticStrain = st.plasticStrain;
 			c.hardeningVar  = st.hardeningVar;
@@ -240,9 +235,14 @@ void FlexElementEngine::action()
 		c.strain        = strain;
 		c.elasticEnergy = f.elasticEnergy;
 		const int s1 = serial ? slotOf[c.node1] : -1, s2 = serial ? slotOf[c.node2] : -1;
-		if (s1 >= 0 && s2 >= 0) {
+		const int sa1 = serial && hook.force > 0 ? slotOf[c.hookLegs[0]] : -1, sa2 = serial && hook.force > 0 ? slotOf[c.hookLegs[1]] : -1;
+		if (s1 >= 0 && s2 >= 0 && (hook.force == 0 || (sa1 >= 0 && sa2 >= 0))) {
 			accF[s1] += f.Fi;
 			accF[s2] += f.Fj;
+			if (hook.force > 0) {
+				accF[sa1] += hook.Fa;
+				accF[sa2] += hook.Fa;
+			}
 			if (!bar) {
 				if (!anyMoment) { // (zeroed only on steps with moments: bar meshes have none)
 					accM.assign(slotNode.size(), Vector3r::Zero());
@@ -262,6 +262,14 @@ void FlexElementEngine::action()
 			}
 			flexa::addForce(scene, sk, c.node1, f.Fi);
 			flexa::addForce(scene, sk, c.node2, f.Fj);
+			if (hook.force > 0) {
+				if (sk) {
+					sinkLo = std::min(sinkLo, (long)std::min(c.hookLegs[0], c.hookLegs[1]));
+					sinkHi = std::max(sinkHi, (long)std::max(c.hookLegs[0], c.hookLegs[1]));
+				}
+				flexa::addForce(scene, sk, c.hookLegs[0], hook.Fa);
+				flexa::addForce(scene, sk, c.hookLegs[1], hook.Fa);
+			}
 			if (!bar) {
 				flexa::addTorque(scene, sk, c.node1, f.Mi);
 				flexa::addTorque(scene, sk, c.node2, f.Mj);

@@ -82,19 +82,25 @@ void FlexCylinder::attach(int selfId)
 		wireSlack     = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
 	}
 	omega2        = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
-	hookLocal     = Vector3r::Zero();
 	hookGap       = 0;
 	hookStiffness = 0;
 	hookForce     = 0;
-	if (hookAxis != Vector3r::Zero()) {
-		if (!finite(hookAxis)) bad(selfId, "hookAxis must be finite");
-		const Vector3r n = hookAxis.normalized();
-		hookLocal        = s1.ori.conjugate() * n;
-		hookGap          = (s1.pos - s2.pos).dot(n);
-		hookStiffness    = sec.EA / L0;
-		// the stop's modes added to the bond's (the largest eigenvalue of a sum is at most the sum
-		// of theirs); its lever |n x (x1 - x2)| is at most the link's length
-		omega2 += flex::hookMaxOmega2(hookStiffness, L0, sh.mass, sh.inertia);
+	if (hookLegs != Vector2i(-1, -1)) {
+		for (int k = 0; k < 2; ++k) {
+			const int id = hookLegs[k];
+			if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id] || !dynamic_cast<FlexNode*>((*scene->bodies)[id]->shape.get()))
+				bad(selfId, "hookLegs: #" + std::to_string(id) + " is not a FlexNode");
+			if (id == node1 || id == node2) bad(selfId, "hookLegs: #" + std::to_string(id) + " is an end of the knot link itself");
+		}
+		if (hookLegs[0] == hookLegs[1]) bad(selfId, "hookLegs: both legs end at node #" + std::to_string(hookLegs[0]));
+		const Vector3r m = s1.pos - 0.5 * ((*scene->bodies)[hookLegs[0]]->state->pos + (*scene->bodies)[hookLegs[1]]->state->pos);
+		if (!(m.norm() >= d.norm()))
+			bad(selfId, "hookLegs: node1's bend is straight (its apex is within one link length of its legs' midline), it cannot hook");
+		hookGap       = (s1.pos - s2.pos).dot(m.normalized());
+		hookStiffness = sec.EA / L0;
+		// the stop's mode added to the bond's (the largest eigenvalue of a sum is at most the sum of
+		// theirs), with the link's own mass share at each of the stop's four nodes
+		omega2 += flex::hookMaxOmega2(hookStiffness, sh.mass);
 	}
 	for (State* s : { &s1, &s2 }) {
 		s->mass += sh.mass;

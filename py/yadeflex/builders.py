@@ -7,7 +7,7 @@ import math
 
 from yade import O
 from yade.wrapper import Body, FlexNode, FlexCylinder, FlexMat
-from yade.minieigenHP import Vector3
+from yade.minieigenHP import Vector2i, Vector3
 
 from . import checks as C
 
@@ -90,10 +90,10 @@ def node(pos, radius, material=None, fixed=False):
     return i
 
 
-def cylinder(node1, node2, radius, material, hook_axis=None):
+def cylinder(node1, node2, radius, material, hook_legs=None):
     """A deformable cylinder (capsule, bond) between two FlexNode bodies. Returns its id.
-    hook_axis: a direction (global): the link is a hooked knot whose node1 stays on its side of
-    node2 along it (FlexCylinder.hookAxis); None: none."""
+    hook_legs: (a, b), the far nodes of node1's two legs: the link is a hooked knot whose node1
+    stays on its side of node2 along the way its bend opens (FlexCylinder.hookLegs); None: none."""
     r = _positive("cylinder radius", radius)
     mat = _material(material)
     for n in (node1, node2):
@@ -106,11 +106,11 @@ def cylinder(node1, node2, radius, material, hook_axis=None):
     C.body_budget("cylinder", (node1, node2), 1)
     b = Body()
     b.shape = FlexCylinder(node1=node1, node2=node2, radius=r)
-    if hook_axis is not None:
-        ax = check_finite("hook axis", hook_axis)
-        if ax.norm() == 0:
-            raise C.BadValue("hook axis", hook_axis, "a nonzero direction")
-        b.shape.hookAxis = ax
+    if hook_legs is not None:
+        legs = tuple(hook_legs) if isinstance(hook_legs, (tuple, list)) else ()
+        if len(legs) != 2 or not all(isinstance(n, int) and not isinstance(n, bool) and 0 <= n < len(O.bodies) for n in legs):
+            raise C.BadValue("hook legs", hook_legs, "two ids of existing nodes, the far ends of node1's legs")
+        b.shape.hookLegs = Vector2i(*legs)
     b.material = mat
     b.state.pos = 0.5 * (O.bodies[node1].state.pos + O.bodies[node2].state.pos)
     i = O.bodies.append(b)

@@ -30,9 +30,10 @@ Knot models (chain_link_panel's knots option):
   through each other (most knots of a panel pulled to rupture do), which the wires wrapped
   around each other cannot do.
 - knots='hook' (planar panels): the same two apexes joined by a hinged bar (axial only) with a
-  stop (FlexCylinder.hookAxis, pkg/kernel/Hook.hpp): the bends turn about each other freely,
-  but pulled apart the left bend bears on the right one along the hook's axis (across the
-  spirals, turning with the left bend) and cannot pass it.
+  stop (FlexCylinder.hookLegs, pkg/kernel/Hook.hpp): the bends turn about each other freely,
+  but pulled apart the left bend bears on the right one along the way it opens (from its legs'
+  midpoint to its apex) and cannot pass it. Knots of the top and bottom rows (one leg per bend)
+  keep a plain hinged link.
 Nothing in either knot model is fitted to the mesh datasheet: d, the wire section and E are
 the wire's. Their time step is about 20 times shorter (the short knot links; FlexTimeStepper
 bounds each bond with its own mass).
@@ -140,7 +141,7 @@ def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material, h
     mat = B._material(material)
     kmat = B._material(knot_material)
     apex = {}  # (s, i, k) -> node id
-    links = []
+    links, pairs = [], []
     for (i, k) in _lattice(nx, ny):
         p = origin + Vector3(i * a, k * h, 0)
         here = [s for s in (i - 1, i) if 0 <= s < nx and _spiral_column(s, k) == i]
@@ -152,9 +153,14 @@ def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material, h
         left = B.node(p + Vector3(0.5 * d, 0, -0.5 * d), r, mat)
         right = B.node(p + Vector3(-0.5 * d, 0, 0.5 * d), r, mat)
         apex[(i - 1, i, k)], apex[(i, i, k)] = left, right
-        # hook: the left bend stays right of the right one (+x, turning with the left bend): pulled
-        # apart, its wire bears on the other's; pushed together, the two slide freely
-        links.append(B.cylinder(left, right, r, kmat, hook_axis=(1, 0, 0) if hook else None))
+        pairs.append((i, k, left, right))
+    for i, k, left, right in pairs:
+        # hook: the left bend (spiral i-1's, its legs going to column i-1 at rows k -+ 1) stays on
+        # the right one's far side along the way it opens: pulled apart, its wire bears on the
+        # other's; pushed together, the two slide freely. At the top and bottom rows the bends
+        # have one leg each: a plain hinged link there
+        legs = (apex.get((i - 1, i - 1, k - 1)), apex.get((i - 1, i - 1, k + 1)))
+        links.append(B.cylinder(left, right, r, kmat, hook_legs=legs if hook and None not in legs else None))
     spirals = _spirals(nx, ny, lambda s, i, k: apex[(s, i, k)], r, mat)
     at = {}
     for (s, i, k), n in apex.items():
@@ -189,7 +195,7 @@ def chain_link_panel(width, height, material, dx=TECCO_G65_DX, dy=TECCO_G65_DY, 
     'beam', each inner knot two crossed bend apexes with the hook's eccentricity joined by a knot
     link of knot_material (None: knot_bar(), a beam); 'hook', the same apexes joined by a hinged
     bar (knot_material None: knot_bar(bending_factor=0)) with a stop that keeps the two bends from
-    passing through each other (FlexCylinder.hookAxis); see _build_knotted.
+    passing through each other (FlexCylinder.hookLegs); see _build_knotted.
     Returns dict(nodes={(i, k): id, or [ids] with knots}, cylinders (the legs), spirals, edges,
     knot_links, params)."""
     o = B.check_finite("panel origin", origin)

@@ -136,6 +136,7 @@ BAD = [
     (tensile.wire_through_knots, lambda c: ((c["tecco"],), dict(radius=-1)), "radius"),
     (tensile.tecco_panel_test, lambda c: ((), dict(speed=NAN)), "speed"),
     (mesh.knot_bar, lambda c: ((), dict(young=-1)), "young"),
+    (mesh.knot_model, lambda c: (("rope",), {}), "knots"),
     (tensile.rope_tensile_test, lambda c: ((), dict(steps_per_unit_strain=NAN)), "steps_per_unit_strain"),
     (scenes.bouncing_bar, lambda c: ((), dict(drop=NAN)), "drop"),
     (scenes.bouncing_bar, lambda c: ((), dict(segments=0)), "segments"),

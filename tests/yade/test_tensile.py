@@ -111,18 +111,21 @@ def test_knotted_chain_link_panel_geometry(scene):
         assert all(z1 == -z2 for z1, z2 in zip(zs, zs[1:]) if z1 and z2)  # edge bends lie in the plane
 
 
-def test_knotted_panel_keeps_its_knots_hooked(scene):
-    """A 0.5 x 0.5 m knotted panel pulled along the spirals to rupture: no two bends pass through
-    each other (the crossed apexes keep their order in the plane), the test is quasi-static, and
-    the peak stays below every wire crossing a section at its breaking force."""
-    s = tensile.mesh_panel_scene(width=0.5, height=0.5, direction="longitudinal", speed=1.0, knots=True)
+@pytest.mark.parametrize("knots", ["beam", "hook"])
+def test_knotted_panel_keeps_its_knots_hooked(scene, knots):
+    """A 0.5 x 0.5 m knotted panel (eccentric or hooked knots) pulled along the spirals to
+    rupture: no two bends whose legs are whole pass through each other (the crossed apexes keep
+    their order in the plane), the test is quasi-static, and the peak stays below every wire
+    crossing a section at its breaking force."""
+    s = tensile.mesh_panel_scene(width=0.5, height=0.5, direction="longitudinal", speed=1.0, knots=knots)
     r = tensile.mesh_tensile_test(s, chunk=400, max_elongation=0.3)
     assert r["ruptured"] > 0
     assert r["unbalance_at_peak"] < 0.01, "quasi-static: both clamped edges carry the same force"
     assert r["peak"] < 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
+    whole = lambda n: len(O.bodies[n].shape.elements) == 3  # its two legs and the knot link
     order = [O.bodies[O.bodies[c].shape.node1].state.pos[0] - O.bodies[O.bodies[c].shape.node2].state.pos[0]
-             for c in s["knot_links"] if O.bodies[c] is not None]
-    assert order and min(order) > 0, "a bend passed through the wire it is hooked around"
+             for c in s["knot_links"] if O.bodies[c] is not None and whole(O.bodies[c].shape.node1) and whole(O.bodies[c].shape.node2)]
+    assert len(order) > len(s["knot_links"]) // 2 and min(order) > 0, "a bend passed through the wire it is hooked around"
 
 
 def _tecco_panel_runs():
@@ -143,10 +146,11 @@ def test_tecco_panel_is_quasi_static_and_below_the_wire_bound(scene):
     assert_rel(runs[2.0]["peak"], r["peak"], 0.01, "peak independent of the pulling speed")
     assert r["peak"] < 2 / mesh.TECCO_G65_DX * wire.TECCO_WIRE_STRESS[-1] * math.pi * 0.0015 ** 2
     assert 0.005 < r["elongation_at_peak"] < 0.2
+    assert r["quasi_static_peak"] == r["peak"]  # its peak is balanced: the quasi-static one
 
 
-@pytest.mark.xfail(strict=True, reason="issue 36: the hook of the chain-link knot is not modelled well enough "
-                                       "(124 kN/m shared nodes, 119-129 kN/m eccentric knots: validation/README.md)")
+@pytest.mark.xfail(strict=True, reason="issue 36: no knot model reaches the datasheet "
+                                       "(124 kN/m shared nodes, 119 kN/m eccentric, 111 kN/m hooked knots: validation/README.md)")
 def test_tecco_panel_longitudinal_strength_vs_datasheet(scene):
     """The datasheet's 150 kN/m within issue 36's 5% (one value, no scatter given). No parameter
     is fitted to the mesh, so this is a prediction; strict: passing would flag the change."""
