@@ -58,8 +58,7 @@ def run(full, out):
               "did, 144 kN/m); hooked knots (tecco_g65_longitudinal_peak_hooks, full version: the hinged link with a stop that keeps "
               "the bends from passing) give less again: no knot model closes the gap (issue 36, section 1)")
     res.append(grade(c, r["quasi_static_peak"] / 1e3, elongation_at_peak=r["elongation_at_quasi_static_peak"], ruptured=r["ruptured"],
-                     largest_force_kN_per_m=r["peak"] / 1e3,
-                     edge_unbalance_at_peak=r["unbalance_at_peak"], seconds=secs))
+                     largest_force_kN_per_m=r["peak"] / 1e3, edge_unbalance_at_largest=r["unbalance_at_peak"], seconds=secs))
     tensile.write_curve(os.path.join(curves, "mesh_longitudinal"),
                         dict(elongation=r["elongation"], force_kN_per_m=[x / 1e3 for x in r["force_per_m"]]),
                         "elongation [-]", "force per metre width [kN/m]", "TECCO G65/3, longitudinal, the module's mesh", y="force_kN_per_m",

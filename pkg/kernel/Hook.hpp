@@ -12,18 +12,20 @@
 // of V; they sum to zero and, V depending only on differences of positions and their dot
 // products, so do their moments: the stop is conservative and needs no node orientation. A bend
 // pulled nearly straight (|m| < |r|: its apex within one link length of its legs' midline) no
-// longer hooks: the stop lets go.
+// longer hooks: the stop lets go (released, with the energy it held).
 #pragma once
 #include "Types.hpp"
 
 namespace flex {
 
 struct HookForces {
-	Vec3   Fi     = Vec3::Zero(); ///< force on node i (the hooked bend) [N]
-	Vec3   Fj     = Vec3::Zero(); ///< force on node j (the other bend) [N]
-	Vec3   Fa     = Vec3::Zero(); ///< force on each of the far nodes a, b of bend i's legs [N]
-	double force  = 0;            ///< the stop's force f >= 0 [N]
-	double energy = 0;            ///< stored energy V [J]
+	Vec3   Fi             = Vec3::Zero(); ///< force on node i (the hooked bend) [N]
+	Vec3   Fj             = Vec3::Zero(); ///< force on node j (the other bend) [N]
+	Vec3   Fa             = Vec3::Zero(); ///< force on each of the far nodes a, b of bend i's legs [N]
+	double force          = 0;            ///< the stop's force f >= 0 [N]
+	double energy         = 0;            ///< stored energy V [J]
+	bool   released       = false;        ///< bend i is straight (|m| < |r|): the stop lets go (for good, in the adapter)
+	double releasedEnergy = 0;            ///< V it held as it let go [J]
 };
 
 /// The stop's forces for bends at xi, xj, bend i's legs' far nodes at xa, xb, the rest gap c

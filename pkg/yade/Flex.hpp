@@ -108,9 +108,10 @@ public:
 		((Real, elasticEnergy, 0, Attr::readonly, "Stored elastic energy [J]"))
 		((Real, maxStrain, 0, Attr::readonly, "Wire law: largest axial strain reached on the curve [-]"))
 		((Real, wireSlack, 0, Attr::readonly, "Wire law: slack strain of this link, drawn once at attach from FlexMat.wireSeed and the node ids [-]"))
-		((Vector2i, hookLegs, Vector2i(-1, -1), , "Hooked knot: set before attach to make this link the knot of two hooked wire bends (node1's and node2's), which turn about each other but cannot pass through each other: the far nodes of node1's two legs. node1 stays on its side of node2 along the direction from their midpoint to node1 (the way node1's bend opens), at least at the gap of the rest state (pkg/kernel/Hook.hpp). (-1, -1): no stop."))
+		((Vector2i, hookLegs, Vector2i(-1, -1), , "Hooked knot: set before attach to make this link the knot of two hooked wire bends (node1's and node2's), which turn about each other but cannot pass through each other: the far nodes of node1's two legs. node1 stays on its side of node2 along the direction from their midpoint to node1 (the way node1's bend opens), at least at the gap of the rest state (pkg/kernel/Hook.hpp). (-1, -1): no stop. Read at attach. The stop lets go for good when a leg of node1 ruptures or its bend is pulled straight. The time step bound counts the stop's mode with this link's mass share at the legs' far nodes too: they must be at least as heavy (a leg's share makes them so)."))
+		((Vector2i, hookNodes, Vector2i(-1, -1), Attr::readonly, "Hooked knot: hookLegs as validated at attach, the nodes the stop uses (later changes of hookLegs are ignored) [-]"))
 		((Real, hookGap, 0, Attr::readonly, "Hooked knot: the gap (x1 - x2) . n at rest, the stop [m]"))
-		((Real, hookStiffness, 0, Attr::readonly, "Hooked knot: the stop's stiffness, the link's EA/L0 [N/m]; 0: no stop"))
+		((Real, hookStiffness, 0, Attr::readonly, "Hooked knot: the stop's stiffness, the link's EA/L0 [N/m]; 0: no stop (or let go)"))
 		((Real, hookForce, 0, Attr::readonly, "Hooked knot: the stop's force this step, >= 0 [N]")),
 		createIndex();,
 		.def("attach", &FlexCylinder::attach, (boost::python::arg("id")), "Bind to the nodes (called by yadeflex.cylinder).")
@@ -280,6 +281,7 @@ class FlexElementEngine : public GlobalEngine {
 	static Link       linkOf(const Scene* scene, const Body* b); // all null if not computable
 	void              refresh();
 	void              facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi); // membranes (FlexFacet); [lo, hi]: the node ids added to the sinks
+	void              releaseHooks(const FlexCylinder& leg, bool energy); // hooked knots whose bend loses this leg let go
 
 public:
 	void action() override;

@@ -37,7 +37,7 @@ void FlexElementEngine::refresh()
 	slotNode.clear();
 	for (Body::id_t id : cylinders) {
 		const FlexCylinder& c = static_cast<const FlexCylinder&>(*(*scene->bodies)[id]->shape);
-		for (int nid : { c.node1, c.node2, c.hookLegs[0], c.hookLegs[1] }) // (the far nodes of a hooked knot's legs get its stop's forces)
+		for (int nid : { c.node1, c.node2, c.hookNodes[0], c.hookNodes[1] }) // (the far nodes of a hooked knot's legs get its stop's forces)
 			if (nid >= 0 && nid < (int)slotOf.size() && slotOf[nid] < 0) {
 				slotOf[nid] = (int)slotNode.size();
 				slotNode.push_back(nid);
@@ -152,7 +152,7 @@ void FlexElementEngine::action()
 	const shared_ptr<Body>* bodies   = scene->bodies->body.data(); // (indexed directly: BodyContainer::operator[] is an out-of-line call)
 	const long              nBodies  = (long)scene->bodies->body.size();
 	// energies summed here and booked once per step (not twice per element)
-	Real eElastic = 0, ePlastic = 0;
+	Real eElastic = 0, ePlastic = 0, eReleased = 0;
 	long nPlastic = 0;
 	// the smallest and largest node id added to the threads' sinks: their merge visits only these
 	long sinkLo = std::numeric_limits<long>::max(), sinkHi = -1;
@@ -179,7 +179,7 @@ void FlexElementEngine::action()
 	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic) \
+#pragma omp parallel for schedule(static) if (parallel) firstprivate(lastMat, lastFlex, lastEw) reduction(+ : eElastic, ePlastic, nPlastic, eReleased) \
         reduction(min : sinkLo) reduction(max : sinkHi)
 #endif
 	for (long k = 0; k < n; ++k) {
@@ -216,12 +216,16 @@ void FlexElementEngine::action()
 		flex::AxialState st { c.plasticStrain, c.hardeningVar };
 		Real             strain;
 		flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);
-		// a hooked knot's stop (FlexCylinder.hookLegs; kernel/Hook.hpp): forces on the link's nodes
+		// a hooked knot's stop (FlexCylinder.hookNodes; kernel/Hook.hpp): forces on the link's nodes
 		// and on the far nodes of node1's legs
 		flex::HookForces hook;
 		if (c.hookStiffness > 0) {
-			const State *sa = flexa::stateOf(scene, c.hookLegs[0]), *sb = flexa::stateOf(scene, c.hookLegs[1]);
+			const State *sa = flexa::stateOf(scene, c.hookNodes[0]), *sb = flexa::stateOf(scene, c.hookNodes[1]);
 			if (sa && sb) hook = flex::hookForces(si->pos, sj->pos, sa->pos, sb->pos, c.hookGap, c.hookStiffness);
+			if (hook.released) { // its bend was pulled straight: let go for good, the energy it held to flexRupture
+				c.hookStiffness = 0;
+				eReleased += hook.releasedEnergy;
+			}
 			c.hookForce = hook.force;
 			f.Fi += hook.Fi;
 			f.Fj += hook.Fj;
@@ -235,7 +239,7 @@ void FlexElementEngine::action()
 		c.strain        = strain;
 		c.elasticEnergy = f.elasticEnergy;
 		const int s1 = serial ? slotOf[c.node1] : -1, s2 = serial ? slotOf[c.node2] : -1;
-		const int sa1 = serial && hook.force > 0 ? slotOf[c.hookLegs[0]] : -1, sa2 = serial && hook.force > 0 ? slotOf[c.hookLegs[1]] : -1;
+		const int sa1 = serial && hook.force > 0 ? slotOf[c.hookNodes[0]] : -1, sa2 = serial && hook.force > 0 ? slotOf[c.hookNodes[1]] : -1;
 		if (s1 >= 0 && s2 >= 0 && (hook.force == 0 || (sa1 >= 0 && sa2 >= 0))) {
 			accF[s1] += f.Fi;
 			accF[s2] += f.Fj;
@@ -264,11 +268,11 @@ void FlexElementEngine::action()
 			flexa::addForce(scene, sk, c.node2, f.Fj);
 			if (hook.force > 0) {
 				if (sk) {
-					sinkLo = std::min(sinkLo, (long)std::min(c.hookLegs[0], c.hookLegs[1]));
-					sinkHi = std::max(sinkHi, (long)std::max(c.hookLegs[0], c.hookLegs[1]));
+					sinkLo = std::min(sinkLo, (long)std::min(c.hookNodes[0], c.hookNodes[1]));
+					sinkHi = std::max(sinkHi, (long)std::max(c.hookNodes[0], c.hookNodes[1]));
 				}
-				flexa::addForce(scene, sk, c.hookLegs[0], hook.Fa);
-				flexa::addForce(scene, sk, c.hookLegs[1], hook.Fa);
+				flexa::addForce(scene, sk, c.hookNodes[0], hook.Fa);
+				flexa::addForce(scene, sk, c.hookNodes[1], hook.Fa);
 			}
 			if (!bar) {
 				flexa::addTorque(scene, sk, c.node1, f.Mi);
@@ -298,6 +302,7 @@ void FlexElementEngine::action()
 	if (energy && n > 0) {
 		flexa::addEnergy(scene, eElastic, "flexBondElastic", elastIx, true);
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
+		if (eReleased != 0) flexa::addEnergy(scene, eReleased, "flexRupture", ruptIx, false);
 	}
 	if (!facets.empty()) facetForces(broken, sinkLo, sinkHi);
 	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size(), sinkHi < 0 ? 0 : sinkLo, sinkHi + 1);
@@ -308,6 +313,7 @@ void FlexElementEngine::action()
 		const flexa::Element e = flexa::elementOf(scene, id);
 		// the element's stored energy is released at rupture (elastic waves we do not resolve)
 		if (energy) flexa::addEnergy(scene, e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
+		if (e.cyl) releaseHooks(*e.cyl, energy);
 		for (int k = 0; k < e.nNodes; ++k) {
 			const int nid = e.nodes[k];
 			if (!(*scene->bodies)[nid]) continue;
@@ -321,6 +327,30 @@ void FlexElementEngine::action()
 		++nRuptured;
 	}
 	refresh();
+}
+
+void FlexElementEngine::releaseHooks(const FlexCylinder& leg, bool energy)
+{
+	// a hooked knot whose bend (node1) loses this leg lets go for good: its bend no longer opens
+	// between two legs; the energy its stop held goes to flexRupture with the leg's
+	for (int end = 0; end < 2; ++end) {
+		const int       apex = end ? leg.node2 : leg.node1, far = end ? leg.node1 : leg.node2;
+		const Body*     nb   = flexa::bodyAt(scene, apex);
+		const FlexNode* node = nb ? flexa::fastCast<FlexNode>(nb->shape.get()) : nullptr;
+		if (!node) continue;
+		for (int eid : node->elements) {
+			const Body*   b = flexa::bodyAt(scene, eid);
+			FlexCylinder* c = b ? const_cast<FlexCylinder*>(flexa::fastCast<FlexCylinder>(b->shape.get())) : nullptr;
+			if (!c || !(c->hookStiffness > 0) || c->node1 != apex || (c->hookNodes[0] != far && c->hookNodes[1] != far)) continue;
+			if (energy) { // (its energy is in this step's flexBondElastic: moved, as a breaking bond's is)
+				const Real v = 0.5 * c->hookForce * c->hookForce / c->hookStiffness;
+				flexa::addEnergy(scene, -v, "flexBondElastic", elastIx, true);
+				flexa::addEnergy(scene, v, "flexRupture", ruptIx, false);
+			}
+			c->hookStiffness = 0;
+			c->hookForce     = 0;
+		}
+	}
 }
 
 void FlexElementEngine::facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi)

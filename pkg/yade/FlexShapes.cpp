@@ -82,6 +82,7 @@ void FlexCylinder::attach(int selfId)
 		wireSlack     = flex::wireSlackDraw((std::uint64_t)(std::int64_t)mat->wireSeed, node1, node2, mat->wireSlackScale);
 	}
 	omega2        = flex::beamMaxOmega2(sec, L0, sh.mass, sh.mass, sh.inertia, sh.inertia);
+	hookNodes     = Vector2i(-1, -1);
 	hookGap       = 0;
 	hookStiffness = 0;
 	hookForce     = 0;
@@ -91,11 +92,13 @@ void FlexCylinder::attach(int selfId)
 			if (id < 0 || id >= (int)scene->bodies->size() || !(*scene->bodies)[id] || !dynamic_cast<FlexNode*>((*scene->bodies)[id]->shape.get()))
 				bad(selfId, "hookLegs: #" + std::to_string(id) + " is not a FlexNode");
 			if (id == node1 || id == node2) bad(selfId, "hookLegs: #" + std::to_string(id) + " is an end of the knot link itself");
+			if (!finite((*scene->bodies)[id]->state->pos)) bad(selfId, "hookLegs: node #" + std::to_string(id) + " has a non-finite position");
 		}
 		if (hookLegs[0] == hookLegs[1]) bad(selfId, "hookLegs: both legs end at node #" + std::to_string(hookLegs[0]));
 		const Vector3r m = s1.pos - 0.5 * ((*scene->bodies)[hookLegs[0]]->state->pos + (*scene->bodies)[hookLegs[1]]->state->pos);
 		if (!(m.norm() >= d.norm()))
 			bad(selfId, "hookLegs: node1's bend is straight (its apex is within one link length of its legs' midline), it cannot hook");
+		hookNodes     = hookLegs;
 		hookGap       = (s1.pos - s2.pos).dot(m.normalized());
 		hookStiffness = sec.EA / L0;
 		// the stop's mode added to the bond's (the largest eigenvalue of a sum is at most the sum of

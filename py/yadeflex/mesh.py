@@ -35,7 +35,7 @@ Knot models (chain_link_panel's knots option):
   midpoint to its apex) and cannot pass it. Knots of the top and bottom rows (one leg per bend)
   keep a plain hinged link.
 Nothing in either knot model is fitted to the mesh datasheet: d, the wire section and E are
-the wire's. Their time step is about 20 times shorter (the short knot links; FlexTimeStepper
+the wire's. Their time step is many times shorter (the short knot links; FlexTimeStepper
 bounds each bond with its own mass).
 """
 import math

@@ -281,6 +281,8 @@ class ModuleParams:
             d.pop(k)
         if d["fill_deposition_friction_deg"] == 0:  # (the default: the keys of the fills cached before the option stay)
             d.pop("fill_deposition_friction_deg")
+        else:  # (20 and 20.0: one fill)
+            d["fill_deposition_friction_deg"] = float(d["fill_deposition_friction_deg"])
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
         d["_version"] = 14  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling
@@ -487,7 +489,8 @@ def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.s
             grains.append(_sphere_body(Vector3(cx + pos[0], cy + pos[1], pos[2]), rad, gmat))
     # densification: no friction, no rolling resistance (a standard DEM filling procedure); a
     # deposition friction above 0 leaves the grains less dense
-    dep = C.number("deposition friction", deposition_friction_deg, LIMITS["fill_deposition_friction_deg"])
+    dep = C.number("deposition friction", deposition_friction_deg,
+                   dataclasses.replace(LIMITS["fill_deposition_friction_deg"], hi=min(45.0, p["friction_deg"])))
     phi = gmat.frictionAngle
     gmat.frictionAngle = math.radians(dep)
     O.engines = fill_engines(p, damping, friction=False)

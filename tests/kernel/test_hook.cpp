@@ -51,9 +51,16 @@ TEST(Hook, PushesBackAlongTheBendsOpening)
 
 TEST(Hook, LetsGoOfAStraightenedBend)
 {
-	// the apex within one link length of its legs' midline: no stop however deep
-	const Vec3 flat_i(-a + 0.5 * 0.004, 0, 0);
-	EXPECT_EQ(hookForces(flat_i, xj, xa, xb, 1.0, 1e8).force, 0);
+	// the apex within one link length of its legs' midline: no force however deep, released with
+	// the energy the stop held there
+	const Vec3       flat_i(-a + 0.002, 0, 0);
+	const HookForces f = hookForces(flat_i, xj, xa, xb, 1.0, 1e8);
+	EXPECT_EQ(f.force, 0);
+	EXPECT_EQ(f.energy, 0);
+	EXPECT_TRUE(f.released);
+	const double g = (flat_i - xj).dot(Vec3::UnitX());
+	EXPECT_TRUE(close(f.releasedEnergy, 0.5 * 1e8 * (1.0 - g) * (1.0 - g), 1e-12));
+	EXPECT_FALSE(hookForces(xi, xj, xa, xb, 1.0, 1e8).released);
 }
 
 TEST(Hook, ForcesAndMomentsBalanceAboutAnyPoint)
@@ -109,4 +116,11 @@ TEST(Hook, Omega2BoundsTheLargestEigenfrequency)
 		EXPECT_LE(w2, hookMaxOmega2(k, m));
 		EXPECT_GE(w2, 2 * k / m * (1 - 1e-12)); // the bound is not loose by more than its t terms
 	}
+	// the bound's own case: |m| = |r| with r across n (|t| = 1): reached
+	const Vec3                   ai(0, 0, 0), aj(0, 0, -0.004), aa(-0.004, -0.01, 0), ab(-0.004, 0.01, 0); // m = (0.004, 0, 0), r = (0, 0, 0.004)
+	const HookForces             f = hookForces(ai, aj, aa, ab, 1.0, 1.0);
+	Eigen::Matrix<double, 12, 1> J;
+	J << f.Fi / f.force, f.Fj / f.force, f.Fa / f.force, f.Fa / f.force;
+	EXPECT_FALSE(f.released);
+	EXPECT_TRUE(close(k / m * J.squaredNorm(), hookMaxOmega2(k, m), 1e-12));
 }
