@@ -217,16 +217,20 @@ void FlexElementEngine::action()
 		Real             strain;
 		flex::BeamForces f = cylinderForces(c, *mat, *si, *sj, lastEw, st, strain);
 		// a hooked knot's stop (FlexCylinder.hookNodes; kernel/Hook.hpp): forces on the link's nodes
-		// and on the far nodes of node1's legs
-		flex::HookForces hook;
+		// and on the far nodes of node1's legs (hookFa each; only on the few links with a stop)
+		bool     hooked = false;
+		Vector3r hookFa;
 		if (c.hookStiffness > 0) {
-			const State *sa = flexa::stateOf(scene, c.hookNodes[0]), *sb = flexa::stateOf(scene, c.hookNodes[1]);
-			if (sa && sb) hook = flex::hookForces(si->pos, sj->pos, sa->pos, sb->pos, c.hookGap, c.hookStiffness);
+			const State *          sa = flexa::stateOf(scene, c.hookNodes[0]), *sb = flexa::stateOf(scene, c.hookNodes[1]);
+			const flex::HookForces hook
+			        = sa && sb ? flex::hookForces(si->pos, sj->pos, sa->pos, sb->pos, c.hookGap, c.hookStiffness) : flex::HookForces();
 			if (hook.released) { // its bend was pulled straight: let go for good, the energy it held to flexRupture
 				c.hookStiffness = 0;
 				eReleased += hook.releasedEnergy;
 			}
 			c.hookForce = hook.force;
+			hooked      = hook.force > 0;
+			hookFa      = hook.Fa;
 			f.Fi += hook.Fi;
 			f.Fj += hook.Fj;
 			f.elasticEnergy += hook.energy;
@@ -239,13 +243,13 @@ void FlexElementEngine::action()
 		c.strain        = strain;
 		c.elasticEnergy = f.elasticEnergy;
 		const int s1 = serial ? slotOf[c.node1] : -1, s2 = serial ? slotOf[c.node2] : -1;
-		const int sa1 = serial && hook.force > 0 ? slotOf[c.hookNodes[0]] : -1, sa2 = serial && hook.force > 0 ? slotOf[c.hookNodes[1]] : -1;
-		if (s1 >= 0 && s2 >= 0 && (hook.force == 0 || (sa1 >= 0 && sa2 >= 0))) {
+		const int sa1 = serial && hooked ? slotOf[c.hookNodes[0]] : -1, sa2 = serial && hooked ? slotOf[c.hookNodes[1]] : -1;
+		if (s1 >= 0 && s2 >= 0 && (!hooked || (sa1 >= 0 && sa2 >= 0))) {
 			accF[s1] += f.Fi;
 			accF[s2] += f.Fj;
-			if (hook.force > 0) {
-				accF[sa1] += hook.Fa;
-				accF[sa2] += hook.Fa;
+			if (hooked) {
+				accF[sa1] += hookFa;
+				accF[sa2] += hookFa;
 			}
 			if (!bar) {
 				if (!anyMoment) { // (zeroed only on steps with moments: bar meshes have none)
@@ -266,13 +270,13 @@ void FlexElementEngine::action()
 			}
 			flexa::addForce(scene, sk, c.node1, f.Fi);
 			flexa::addForce(scene, sk, c.node2, f.Fj);
-			if (hook.force > 0) {
+			if (hooked) {
 				if (sk) {
 					sinkLo = std::min(sinkLo, (long)std::min(c.hookNodes[0], c.hookNodes[1]));
 					sinkHi = std::max(sinkHi, (long)std::max(c.hookNodes[0], c.hookNodes[1]));
 				}
-				flexa::addForce(scene, sk, c.hookNodes[0], hook.Fa);
-				flexa::addForce(scene, sk, c.hookNodes[1], hook.Fa);
+				flexa::addForce(scene, sk, c.hookNodes[0], hookFa);
+				flexa::addForce(scene, sk, c.hookNodes[1], hookFa);
 			}
 			if (!bar) {
 				flexa::addTorque(scene, sk, c.node1, f.Mi);
