@@ -9,13 +9,13 @@ HookForces hookForces(const Vec3& xi, const Vec3& xj, const Vec3& xa, const Vec3
 	const Vec3   m  = xi - 0.5 * (xa + xb);
 	const Vec3   r  = xi - xj;
 	const double lm = m.norm();
+	const Vec3   n  = lm > 0 ? Vec3(m / lm) : Vec3::Zero();
+	const double g  = r.dot(n);
 	if (!(lm >= r.norm()) || lm == 0) { // a straightened bend no longer hooks
 		h.released = true;
-		if (lm > 0 && r.dot(m / lm) < c) h.releasedEnergy = 0.5 * k * (c - r.dot(m / lm)) * (c - r.dot(m / lm));
+		if (lm > 0 && g < c) h.releasedEnergy = 0.5 * k * (c - g) * (c - g);
 		return h;
 	}
-	const Vec3   n = m / lm;
-	const double g = r.dot(n);
 	if (!(g < c)) return h;
 	const Vec3 t = (r - n * g) / lm;
 	h.force      = k * (c - g);
