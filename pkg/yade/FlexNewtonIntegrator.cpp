@@ -11,6 +11,7 @@
 #include <lib/factory/ClassFactory.hpp>
 
 #include <algorithm>
+#include <limits>
 #ifdef YADE_OPENMP
 #include <omp.h>
 #endif
@@ -199,9 +200,11 @@ void FlexNewtonIntegrator::action()
 	const bool                   pf       = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
 	const flex::LeapFrogSettings lf { dt, gravity, damping, flex::DampFactors(damping), dampGravity };
 	Real                         eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
-	long                         nDamp = 0;
+	long                         nDamp    = 0;
+	long                         firstBad = std::numeric_limits<long>::max(); // the smallest id moved to a non-finite state
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax)
+#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax) \
+        reduction(min : firstBad)
 #endif
 	for (long k = 0; k < n; ++k) {
 		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
@@ -251,6 +254,7 @@ void FlexNewtonIntegrator::action()
 			eGrav += -gravity.dot(st->vel) * st->mass * dt;
 		}
 		flex::leapFrog(f, m, dofs, lf);
+		if (!flexa::motionValid(*st)) firstBad = std::min(firstBad, long(id));
 		if (byNode && nSweep[id] >= 0) { // a node of bounded elements: their collider trigger
 			const Real d = (st->se3.position - nRef[id]).cwiseAbs().maxCoeff();
 			if (!(d == 0 || d < nSweep[id])) mx = 2;
@@ -259,6 +263,9 @@ void FlexNewtonIntegrator::action()
 		sweep.saveMaximaDisplacement(b); // collider trigger, as NewtonIntegrator
 		if (b->isClump()) Clump::moveMembers(b, scene, &sweep);
 	}
+	if (firstBad != std::numeric_limits<long>::max())
+		flexa::refuseIntegrated(scene, Body::id_t(firstBad), scene->forces.getForce(firstBad), scene->forces.getTorque(firstBad));
+	flexa::vouchedStep() = { scene, scene->iter }; // (what a clump moved with its members too)
 	if (track && n > 0) {
 		if (nDamp) flexa::addEnergy(scene, eDamp, "nonviscDamp", nonviscDampIx, false);
 		if (!kinSplit)

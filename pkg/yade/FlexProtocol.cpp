@@ -5,7 +5,10 @@
 
 #include <core/InteractionLoop.hpp>
 #include <pkg/common/InsertionSortCollider.hpp>
+#include <pkg/common/ParallelEngine.hpp>
+#include <pkg/common/PeriodicEngines.hpp>
 
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -22,6 +25,8 @@ namespace flexa {
 			std::vector<std::pair<const Engine*, const std::type_info*>> seen;
 			const Engine*                                                collider     = nullptr; // (the list holds it)
 			bool                                                         orderChecked = false;
+			std::vector<size_t> periodic, parallel; // places of the PeriodicEngines (none is yade-flex's) and ParallelEngines
+			unsigned long       generation = 0;     // one more at each change of the list
 			// true if the list is the one seen last; else remembers it and finds its collider
 			bool same(const Scene* s)
 			{
@@ -35,10 +40,15 @@ namespace flexa {
 				scene        = s;
 				collider     = nullptr;
 				orderChecked = false;
+				++generation;
 				seen.clear();
+				periodic.clear();
+				parallel.clear();
 				for (const auto& e : engines) {
 					seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
 					if (dynamic_cast<const InsertionSortCollider*>(e.get())) collider = e.get(); // the last one
+					if (dynamic_cast<const PeriodicEngine*>(e.get())) periodic.push_back(seen.size() - 1);
+					if (dynamic_cast<const ParallelEngine*>(e.get())) parallel.push_back(seen.size() - 1);
 				}
 				return false;
 			}
@@ -83,6 +93,32 @@ namespace flexa {
 		for (const auto& e : scene->engines)
 			if (e.get() == m.collider && m.collider) return e;
 		return nullptr;
+	}
+
+	bool foreignEngineRanSince(const Scene* scene, long iter)
+	{
+		EngineMemo&                m    = memo();
+		thread_local const Scene*  last = nullptr;
+		thread_local unsigned long gen  = 0;
+		const bool                 same = m.same(scene) && last == scene && gen == m.generation;
+		last                            = scene;
+		gen                             = m.generation;
+		if (!same) return true;
+		const auto& engines = scene->engines; // (the memo's list: the places hold the same engines)
+		for (size_t i : m.periodic)
+			if (static_cast<const PeriodicEngine*>(engines[i].get())->iterLast >= iter) return true;
+		// a ParallelEngine's slaves can be replaced without a change of the list: looked up each time
+		std::function<bool(const Engine*)> ran = [&](const Engine* e) {
+			if (const PeriodicEngine* p = dynamic_cast<const PeriodicEngine*>(e)) return p->iterLast >= iter;
+			if (const ParallelEngine* par = dynamic_cast<const ParallelEngine*>(e))
+				for (const auto& group : par->slaves)
+					for (const auto& slave : group)
+						if (ran(slave.get())) return true;
+			return false;
+		};
+		for (size_t i : m.parallel)
+			if (ran(engines[i].get())) return true;
+		return false;
 	}
 
 	void checkEngineOrder(const Scene* scene)

@@ -125,6 +125,21 @@ namespace flexa {
 		return n;
 	}
 
+	// ---- 4. states the integrator vouches for
+	/// FlexNewtonIntegrator's fast path refuses a position, velocity or angular velocity it makes
+	/// non-finite; it records here the scene and iteration of each step it did so for every body
+	/// it moves. The scene check reads it: a step after a vouched one starts from states that only
+	/// a script (or an engine after the integrator) can have spoiled since.
+	struct VouchedStep {
+		const Scene* scene = nullptr;
+		long         iter  = -1;
+	};
+	inline VouchedStep& vouchedStep()
+	{
+		thread_local VouchedStep v; // (a step's engines run in one thread; O.run's thread is new each call)
+		return v;
+	}
+
 	// ---- the collider and the order
 	/// How many times the scene's InsertionSortCollider (the last one in O.engines) has run (-1:
 	/// the scene has none): bounds and potential interactions change only when it runs.
@@ -135,5 +150,9 @@ namespace flexa {
 	/// are not in the order above (engines absent from the list are not required). Checked again
 	/// only when the engine list changes.
 	void checkEngineOrder(const Scene* scene);
+	/// Whether a periodic engine other than yade-flex's (a PyRunner, a recorder, a DomainLimiter:
+	/// the engines that run scripts, nested in ParallelEngine too) has run at an iteration >= `iter`,
+	/// or the engine list is not the one of the last call (true then: anything may have changed).
+	bool foreignEngineRanSince(const Scene* scene, long iter);
 } // namespace flexa
 } // namespace yade

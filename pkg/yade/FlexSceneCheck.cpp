@@ -6,6 +6,7 @@
 #include "FlexFacet.hpp"
 
 #include <core/InteractionLoop.hpp>
+#include <boost/python/detail/wrap_python.hpp>
 #include <pkg/common/Sphere.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 
@@ -21,10 +22,7 @@
 namespace yade {
 namespace flexa {
 	namespace {
-		// Largest magnitude taken for a coordinate, velocity, radius, mass or inertia: the contact
-		// and energy arithmetic multiplies up to three such values (k d^2, m v^2), which then
-		// stay finite in double precision (1e100^3 = 1e300 < 1.8e308).
-		constexpr Real kHuge = 1e100;
+		constexpr Real kHuge = kHugeValue;
 		bool           finite(Real x) { return std::abs(x) < kHuge; } // (false for NaN and inf too)
 		bool           finite(const Vector3r& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
 		bool           finite(const Quaternionr& q) { return finite(q.w()) && finite(q.x()) && finite(q.y()) && finite(q.z()); }
@@ -108,6 +106,24 @@ namespace flexa {
 			}
 		}
 
+		// every field checkState refuses, tested without a branch per field (a full check reads
+		// every body of the scene); false: checkState finds which
+		bool stateValid(const Body& b, bool element)
+		{
+			const State& s  = *b.state;
+			bool         ok = motionValid(s);
+			ok &= (s.mass >= 0) & (s.mass < kHuge);
+			ok &= (s.inertia[0] >= 0) & (s.inertia[0] < kHuge) & (s.inertia[1] >= 0) & (s.inertia[1] < kHuge) & (s.inertia[2] >= 0)
+			        & (s.inertia[2] < kHuge);
+			if (!ok || element || b.isClumpMember() || !b.isDynamic()) return ok;
+			const unsigned blocked = s.blockedDOFs;
+			ok &= !((blocked & State::DOF_XYZ) != State::DOF_XYZ && s.mass == 0);
+			ok &= !(!(blocked & State::DOF_RX) && s.inertia[0] == 0) & !(!(blocked & State::DOF_RY) && s.inertia[1] == 0)
+			        & !(!(blocked & State::DOF_RZ) && s.inertia[2] == 0);
+			return ok;
+		}
+
+		// names the first field stateValid refused (throws; returns if there is none)
 		void checkState(const Body& b, bool element)
 		{
 			const State& s = *b.state;
@@ -188,22 +204,31 @@ namespace flexa {
 			const Shape* sh      = b.shape.get();
 			bool         element = false;
 			if (sh) {
-				const std::type_info& t = typeid(*sh);
-				if (t == typeid(FlexNode))
+				// (by class index: a comparison of type_info across shared libraries compares names)
+				const int k = sh->getClassIndex();
+				if (k == FlexNode::getClassIndexStatic())
 					isNode = 1;
-				else if (t == typeid(Sphere))
+				else if (k == Sphere::getClassIndexStatic())
 					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
-				else if (const FlexCylinder* c = flexa::fastCast<FlexCylinder>(sh)) {
+				else if (k == FlexCylinder::getClassIndexStatic()) {
+					const FlexCylinder* c = static_cast<const FlexCylinder*>(sh);
+					element               = true;
+					rec                   = { { c->node1, c->node2, -1 }, 2, c->radius };
+				} else if (k == FlexFacet::getClassIndexStatic()) {
+					const FlexFacet* f = static_cast<const FlexFacet*>(sh);
+					element            = true;
+					rec                = { { f->node1, f->node2, f->node3 }, 3, f->radius };
+				} else if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) {
 					element = true;
 					rec     = { { c->node1, c->node2, -1 }, 2, c->radius };
-				} else if (const FlexFacet* f = flexa::fastCast<FlexFacet>(sh)) {
+				} else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) {
 					element = true;
 					rec     = { { f->node1, f->node2, f->node3 }, 3, f->radius };
 				} else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
 					checkRadius(b, sp->radius);
 				isElement = element;
 			}
-			if (b.state) checkState(b, element);
+			if (b.state && !stateValid(b, element)) checkState(b, element);
 			const Material* m = b.material.get();
 			if (m && m != seen.last) {
 				seen.last = m;
@@ -238,17 +263,53 @@ namespace flexa {
 		constexpr long kCheckParallelMin = 2000;
 	} // namespace
 
+	namespace {
+		// What the check of the last step saw (per thread: O.run's thread is new at each call, so
+		// its first step is checked in full).
+		struct CheckMemo {
+			const Scene* scene = nullptr;
+			// (and its interaction container, by its shared owner, which the weak reference keeps
+			// from being reused: a scene loaded later where this one was is checked too)
+			boost::weak_ptr<InteractionContainer> container;
+			long                                  iter     = -1; // of the last step checked, in full or not
+			long                                  fullIter = -1; // of the last full check
+			size_t                                bodies   = 0;
+		};
+		CheckMemo& checkMemo()
+		{
+			thread_local CheckMemo m;
+			return m;
+		}
+
+		// Whether this step needs the full pass: whenever a script can have run since the last
+		// step, or anything but yade-flex's engines can have changed the scene.
+		bool fullCheckDue(const Scene* scene, const CheckMemo& m)
+		{
+			if (m.scene != scene || !sameOwner(m.container, scene->interactions)) return true;
+			if (scene->iter != m.iter + 1) return true; // (O.resetTime, a loaded scene)
+			if (scene->iter - m.fullIter >= tuning::kFullCheckPeriod) return true;
+			if (scene->bodies->size() != m.bodies) return true;
+			// the states the last step left: vouched for by FlexNewtonIntegrator's fast path, which
+			// refuses what it makes non-finite
+			const VouchedStep& v = vouchedStep();
+			if (v.scene != scene || v.iter != m.iter) return true;
+			// a script: O.step() holds Python's lock while the step runs (O.run's thread does not)
+			if (PyGILState_Check()) return true;
+			// a PyRunner (or another periodic engine) ran since the last step's check
+			return foreignEngineRanSince(scene, m.iter);
+		}
+	} // namespace
+
 	void checkScene(const Scene* scene, bool force)
 	{
-		static const Scene* lastScene = nullptr;
-		static long         lastIter  = -1;
-		// (and its interaction container, by its shared owner, which the weak reference keeps from
-		// being reused: a scene loaded later where this one was, at the same iteration, is checked
-		// too; never destroyed, as the marks of FlexProtocol.hpp)
-		static boost::weak_ptr<InteractionContainer>& lastContainer = *new boost::weak_ptr<InteractionContainer>;
-		static std::vector<char>                      isNode, isElement; // per body id, filled by the pass over the bodies
-		static std::vector<ElementRecord>             elements;          // per body id, valid where isElement
-		if (!force && scene == lastScene && scene->iter == lastIter && sameOwner(lastContainer, scene->interactions)) return;
+		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
+		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
+		CheckMemo&                        memo = checkMemo();
+		if (!force && scene == memo.scene && scene->iter == memo.iter && sameOwner(memo.container, scene->interactions)) return;
+		if (!force && !fullCheckDue(scene, memo)) {
+			memo.iter = scene->iter;
+			return;
+		}
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
 		// table of node ids, not by visiting the node bodies again
@@ -311,9 +372,32 @@ namespace flexa {
 			checkNodes(scene, *body[id], e.nodes, e.nNodes, isNode);
 			checkRadius(*body[id], e.radius);
 		}
-		lastScene     = scene;
-		lastIter      = scene->iter;
-		lastContainer = scene->interactions;
+		memo.scene     = scene;
+		memo.container = scene->interactions;
+		memo.iter      = scene->iter;
+		memo.fullIter  = scene->iter;
+		memo.bodies    = scene->bodies->size();
+	}
+
+	void refuseIntegrated(const Scene* scene, Body::id_t id, const Vector3r& force, const Vector3r& torque)
+	{
+		const Body&  b = *scene->bodies->body[id];
+		const State& s = *b.state;
+		const char*  field;
+		if (!finite(s.vel))
+			field = "state.vel";
+		else if (!finite(s.angVel))
+			field = "state.angVel";
+		else if (!finite(s.se3.position))
+			field = "state.pos";
+		else
+			field = "state.ori";
+		std::ostringstream os;
+		os.precision(6);
+		os << "became non-finite (or above 1e100) in the step from iteration " << scene->iter << ": the force on the body was (" << force[0] << ", "
+		   << force[1] << ", " << force[2] << "), the torque (" << torque[0] << ", " << torque[1] << ", " << torque[2] << "), its mass " << s.mass
+		   << "; look at the engines, forces and values acting on it";
+		refuse(b, field, os.str());
 	}
 
 	void checkTimeStep(const Scene* scene)

@@ -4,9 +4,14 @@
 // Python can change any attribute between two steps: an element's node ids, a radius, a mass, a
 // position, a material's modulus. The engines index arrays by node id and cast a node's shape to
 // FlexNode, so a wrong id would crash YADE, and a NaN or a zero mass would run on as NaN. The
-// check runs once per step (the first yade-flex engine of the step does it; the others find it
-// done) and throws std::invalid_argument naming the body and the field, before anything of the
-// step is computed. What it refuses:
+// check runs at the start of each step (the first yade-flex engine of the step does it; the
+// others find it done) and throws std::invalid_argument naming the body and the field, before
+// anything of the step is computed. Its full pass over every body runs whenever a script can have
+// changed something since the last step: at the first step of each O.run() and each O.step(),
+// after a step in which a PyRunner (or another periodic engine) ran, when the engine list, the
+// interaction container or the number of bodies changed, after a step whose states the yade-flex
+// integrator did not vouch for (its fast path refuses the positions and velocities it makes
+// non-finite), and at least every tuning::kFullCheckPeriod steps. What it refuses:
 //  - an element (FlexCylinder, FlexFacet) whose node ids are not distinct FlexNode bodies, or
 //    whose radius is not finite and positive; a sphere whose radius is not;
 //  - a body with a non-finite (or above 1e100 in magnitude) position, orientation, velocity, angular velocity, mass or
@@ -24,8 +29,29 @@
 namespace yade {
 namespace flexa {
 	/// Throws std::invalid_argument naming the body (or material) and the field at the first
-	/// problem found. Checks each scene once per iteration; `force`: check again.
+	/// problem found. Runs once per iteration, in full when a script can have changed the scene
+	/// since the last step (see checkScene's fullCheckDue); `force`: in full now.
 	void checkScene(const Scene* scene, bool force = false);
+	/// Largest magnitude taken for a coordinate, velocity, radius, mass or inertia: the contact
+	/// and energy arithmetic multiplies up to three such values (k d^2, m v^2), which then stay
+	/// finite in double precision (1e100^3 = 1e300 < 1.8e308).
+	constexpr Real kHugeValue = 1e100;
+	/// Position, orientation, velocity and angular velocity all finite and below kHugeValue (one
+	/// test for the lot: the integrator asks it of every body it moves).
+	inline bool motionValid(const State& s)
+	{
+		constexpr Real     h  = kHugeValue;
+		const Vector3r&    p  = s.se3.position;
+		const Quaternionr& q  = s.se3.orientation;
+		bool               ok = (std::abs(p[0]) < h) & (std::abs(p[1]) < h) & (std::abs(p[2]) < h);
+		ok &= (std::abs(q.w()) < h) & (std::abs(q.x()) < h) & (std::abs(q.y()) < h) & (std::abs(q.z()) < h);
+		ok &= (std::abs(s.vel[0]) < h) & (std::abs(s.vel[1]) < h) & (std::abs(s.vel[2]) < h);
+		ok &= (std::abs(s.angVel[0]) < h) & (std::abs(s.angVel[1]) < h) & (std::abs(s.angVel[2]) < h);
+		return ok;
+	}
+	/// Throws std::invalid_argument: body `id`'s motion (motionValid false) became non-finite in
+	/// the step the integrator just took; names the field, the force and the torque on the body.
+	[[noreturn]] void refuseIntegrated(const Scene* scene, Body::id_t id, const Vector3r& force, const Vector3r& torque);
 	/// O.dt finite and positive (the integrator asks, after the time stepper had its turn).
 	void checkTimeStep(const Scene* scene);
 } // namespace flexa

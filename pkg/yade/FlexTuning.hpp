@@ -50,6 +50,12 @@ namespace flexa {
 		constexpr long kPrefetchMin = 512;
 		/// FlexInteractionLoop.compactEvery: steps between copies of the contacts into one block.
 		constexpr long kCompactEvery = 100;
+
+		// ---- the scene check (FlexSceneCheck.hpp)
+		/// Steps between two full checks when nothing says a script can have run: how long a value
+		/// a script sets from another thread while O.run() runs (an interactive session), or a hook
+		/// run by a non-periodic engine, can go unchecked.
+		constexpr long kFullCheckPeriod = 32;
 	} // namespace tuning
 
 	using tuning::kPrefetchMin;

@@ -1,5 +1,5 @@
-"""Seeded fuzz of scene edits from Python: whatever a script assigns between two steps, the next
-step raises an exception that names the body, material or engine and the field, or runs on with
+"""Seeded fuzz of scene edits from Python: whatever a script assigns between two steps (or a
+PyRunner during O.run), the next step raises an exception that names the body, material or engine and the field, or runs on with
 every value finite. Never a crash, never a silent NaN.
 
 Each case runs in a forked copy of this process (a crash kills only the copy): the copy applies
@@ -11,7 +11,7 @@ import random
 import pytest
 from yade import O
 from yade.minieigenHP import Vector3
-from yade.wrapper import FlexCylinder, FlexFacet, FlexNode, Sphere, FlexMat, FlexMembraneMat
+from yade.wrapper import FlexCylinder, FlexFacet, FlexNode, Sphere, FlexMat, FlexMembraneMat, PyRunner
 
 import yadeflex as yf
 from yadeflex import scenes
@@ -106,13 +106,30 @@ def _all_finite():
     return math.isfinite(O.energy.total()) and math.isfinite(O.dt)
 
 
-def _case(edit):
+def _run_with_edit(edit):
+    """The edit made by a PyRunner at the end of the first step of O.run(STEPS, True), as a script
+    does mid-run. YADE's O.wait() can miss the run thread's error when that thread has already
+    stopped (test_guard): a run that stopped early is asked again with O.step()."""
+    import __main__
+    __main__._fuzz_edit = edit
+    O.engines = O.engines + [PyRunner(command="_fuzz_edit()", iterPeriod=1, firstIterRun=O.iter, nDo=1)]
+    target = O.iter + STEPS
+    O.run(STEPS, True)
+    if O.iter != target:
+        O.step()  # (raises what stopped the run)
+        raise RuntimeError(f"the run stopped at iteration {O.iter} of {target} without an error")
+
+
+def _case(edit, during_run):
     """Runs in the forked copy: the exit status is the outcome."""
     try:
         try:
-            edit()
-            for _ in range(STEPS):
-                O.step()
+            if during_run:
+                _run_with_edit(edit)
+            else:
+                edit()
+                for _ in range(STEPS):
+                    O.step()
         except Exception as e:  # noqa: BLE001 (any exception is a refusal; its text is checked)
             return CLEAN if any(n in str(e) for n in NAMES) else UNNAMED
         return HARMLESS if _all_finite() else SILENT
@@ -120,7 +137,8 @@ def _case(edit):
         return UNNAMED
 
 
-def test_scene_edits_from_python_never_crash_and_never_leave_a_silent_nan(scene):
+@pytest.mark.parametrize("during_run", [False, True], ids=["between O.step calls", "by a PyRunner during O.run"])
+def test_scene_edits_from_python_never_crash_and_never_leave_a_silent_nan(scene, during_run):
     ids = _scene()
     rnd = random.Random(SEED)
     outcomes, bad = {}, []
@@ -130,7 +148,7 @@ def test_scene_edits_from_python_never_crash_and_never_leave_a_silent_nan(scene)
         if pid == 0:  # the copy: never returns into pytest
             code = 1
             try:
-                code = _case(edit)
+                code = _case(edit, during_run)
             finally:
                 os._exit(code)
         _, status = os.waitpid(pid, 0)
@@ -142,6 +160,6 @@ def test_scene_edits_from_python_never_crash_and_never_leave_a_silent_nan(scene)
         outcomes[outcome] = outcomes.get(outcome, 0) + 1
         if outcome not in ("clean error", "ran on, finite"):
             bad.append(f"case {k}: {what}: {outcome}")
-    print(f"fuzz, seed {SEED}, {CASES} cases: {outcomes}")
+    print(f"fuzz, seed {SEED}, {CASES} cases, {'during O.run' if during_run else 'between steps'}: {outcomes}")
     assert not bad, "\n".join(bad[:20])
     assert outcomes.get("clean error", 0) >= CASES // 2  # the edits are bad ones: most must be refused

@@ -1,0 +1,152 @@
+"""The scene check during O.run(): a value a script sets while the run goes on (from a PyRunner, or
+from the interactive prompt while O.run() runs in the background), and a value an engine makes
+non-finite, are refused with the body and the field named; the run stops there.
+
+O.step() checks the whole scene before every step (test_errors, test_fuzz). Inside one O.run() the
+full pass runs when something says a script can have run (a periodic engine such as a PyRunner
+ran, the engine list or the bodies changed) and at least every FULL_CHECK_PERIOD steps, and the
+integrator refuses the motions it makes non-finite."""
+import math
+import re
+import time
+
+import pytest
+from yade import O
+from yade.minieigenHP import Vector3
+from yade.wrapper import PyRunner, TranslationEngine
+
+import yadeflex as yf
+from yadeflex import scenes
+
+FULL_CHECK_PERIOD = 32  # tuning::kFullCheckPeriod (pkg/yade/FlexTuning.hpp)
+
+
+def _net():
+    s = scenes.net_impact(n=6, spacing=0.05, wire_radius=0.002, sphere_radius=0.06, speed=3.0)
+    O.step()
+    return s
+
+
+def _run_refused(n):
+    """O.run(n, True); (the refusal's message, whether it came from the run) or (None, True) if the
+    run went through. YADE 2023.02a's O.wait() misses an error when the run thread has already
+    stopped by the time it looks (test_guard.test_nan_is_reported_through_O_run_and_wait): a run
+    that stopped early is asked again with O.step(), whose full check names what is wrong now."""
+    start = O.iter
+    try:
+        O.run(n, True)
+    except RuntimeError as e:
+        return str(e), True
+    if O.iter == start + n:
+        return None, True
+    stopped = O.iter
+    try:
+        O.step()
+    except (RuntimeError, ValueError) as e:
+        assert O.iter == stopped
+        return str(e), False
+    pytest.fail(f"the run stopped at iteration {stopped} of {start + n} without an error")
+
+
+def _py(name, fn):
+    import __main__
+    setattr(__main__, name, fn)
+
+
+@pytest.mark.parametrize("attr, value, field", [("vel", Vector3(0, math.nan, 0), "state.vel"), ("mass", -1.0, "state.mass"),
+                                                 ("radius", 0.0, "shape.radius")])
+def test_a_value_a_pyrunner_sets_is_refused_at_the_next_step(scene, attr, value, field):
+    s = _net()
+    victim = s["sphere"]
+    at = O.iter + 40  # (past a full check of the period: the PyRunner's run is what triggers this one)
+
+    def spoil():
+        b = O.bodies[victim]
+        setattr(b.shape if attr == "radius" else b.state, attr, value)
+
+    _py("_spoil_scene", spoil)
+    O.engines = O.engines + [PyRunner(command="_spoil_scene()", iterPeriod=1, firstIterRun=at, nDo=1)]
+    message, _ = _run_refused(100)
+    assert message is not None and f"body #{victim} (Sphere): {field}" in message
+    assert O.iter == at + 1  # the PyRunner ran at the end of step `at`; the next step is refused before it computes
+
+
+def test_a_value_set_from_the_prompt_while_running_is_refused_within_the_period(scene):
+    s = _net()
+    victim = s["grid"][2][3]  # (the border is clamped)
+    O.run()  # in the background, as from YADE's prompt
+    time.sleep(0.2)
+    assert O.running
+    O.bodies[victim].state.vel = Vector3(math.inf, 0, 0)
+    set_by = O.iter  # (read after setting: the value was set at this iteration or before)
+    t0 = time.time()
+    while O.running and time.time() - t0 < 30:
+        time.sleep(0.01)
+    assert not O.running, "the run went on with an infinite velocity"
+    # the run stopped at the first full check after the value was set, or before (the integrator
+    # refuses the infinite position it makes of it)
+    assert set_by <= O.iter <= set_by + FULL_CHECK_PERIOD + 1
+    with pytest.raises(ValueError, match=f"body #{victim} \\(FlexNode\\): state.(vel|pos) must be finite"):
+        O.step()
+
+
+def _refused_in_the_step(message, from_run, victim, kind, start):
+    """The integrator refused the motion in the step that made it: that step did not count (O.iter
+    unchanged; refused by the next step's check instead, it would have)."""
+    assert message is not None
+    assert O.iter == start
+    if from_run:
+        assert f"body #{victim} ({kind}): state.vel became non-finite" in message and f"from iteration {start}" in message
+    else:  # (O.step's full check, on the state the refused step left)
+        assert re.search(f"body #{victim} \\({kind}\\): state.(vel|pos) must be finite", message)
+    return message
+
+
+def test_a_motion_an_engine_makes_non_finite_is_refused_in_that_step(scene):
+    s = _net()
+    victim = s["sphere"]
+    assert type(O.engines[-1]).__name__ == "FlexNewtonIntegrator"
+    # (just before the integrator, as kinematic engines go: after the step's check)
+    O.engines = O.engines[:-1] + [TranslationEngine(ids=[victim], translationAxis=(1, 0, 0), velocity=math.nan)] + O.engines[-1:]
+    start = O.iter
+    _refused_in_the_step(*_run_refused(50), victim, "Sphere", start)
+
+
+def test_a_non_finite_permanent_force_is_refused_in_the_step_it_acts(scene):
+    s = _net()
+    victim = s["grid"][3][2]
+    O.forces.setPermF(victim, Vector3(0, 0, math.nan))
+    start = O.iter
+    message, from_run = _run_refused(50)
+    _refused_in_the_step(message, from_run, victim, "FlexNode", start)
+    if from_run:
+        assert re.search(r"the force on the body was \([^)]*nan\)", message)
+
+
+def test_bodies_added_by_a_pyrunner_are_checked(scene):
+    _net()
+    at = O.iter + 40
+
+    def add():
+        yf.node((0.5, 0.5, 0.5), 0.01)  # free, and without a cylinder it has no mass
+
+    _py("_add_bad_body", add)
+    O.engines = O.engines + [PyRunner(command="_add_bad_body()", iterPeriod=1, firstIterRun=at, nDo=1)]
+    message, _ = _run_refused(100)
+    assert message is not None and "state.mass" in message and "free body" in message
+    assert O.iter == at + 1
+
+
+def test_a_clean_run_is_not_refused_and_gives_the_same_motion_as_stepping(scene):
+    """The same 200 steps by O.run() (full checks only now and then) and by O.step() (a full check
+    at every step): same positions to the last bit."""
+    _net()
+    O.saveTmp("start")
+    O.loadTmp("start")
+    assert _run_refused(200) == (None, True)
+    by_run = [tuple(b.state.pos) for b in O.bodies if b is not None]
+    O.loadTmp("start")
+    for _ in range(200):
+        O.step()
+    by_step = [tuple(b.state.pos) for b in O.bodies if b is not None]
+    assert by_run == by_step
