@@ -9,8 +9,9 @@
 # bench/builtin_wire.py (BUILTIN_DIR: where it is, default this directory): spheres with
 # WirePM links, no contact between wires. yade-flex, twice: FlexCylinder legs with cylinder
 # contacts, once as beams (bending and twist, the default mesh) and once as bars (axial only,
-# bending_factor 0: the model class of WirePM, plus the contacts). All are pulled along the spirals (y). Time per step: median of REPS x STEPS
-# O.step() calls after a warm-up, with the top row moving (links loaded); per link-step =
+# bending_factor 0: the model class of WirePM, plus the contacts). All are pulled along the spirals (y). Time per step: median of REPS
+# runs of STEPS steps by O.run (builtin_wire.run_steps: no Python between the steps, as scripts
+# run), after a warm-up, with the top row moving (links loaded); per link-step =
 # per step / links. Tensile curves: peak force per metre width. Writes
 # bench/results/wire_timing.csv, wire_engines.csv (each engine's time per step, one timed run
 # per round and side), wire_summary.csv, wire_curves.csv and wire_machine.txt.
@@ -39,7 +40,7 @@ except ImportError:
 
 # many short interleaved rounds: on the shared VM the speed drifts by up to 1.5x over tens of
 # seconds, so each round's ratio is taken between runs a second or two apart
-STEPS, REPS, WARMUP = (200, 3, 50) if quick else (500, 5, 100)
+STEPS, REPS, WARMUP = (500, 3, 50) if quick else (2000, 5, 100)
 ROUNDS = 1 if quick else 11
 CURVE = list(zip(wire.TECCO_WIRE_STRAIN, wire.TECCO_WIRE_STRESS))
 SLACK, RATIO = mesh.TECCO_MESH_CALIBRATION["slack_scale"], mesh.TECCO_MESH_CALIBRATION["force_ratio"]
@@ -53,8 +54,7 @@ def time_steps():
     wall = []
     for _ in range(REPS):
         t0 = time.perf_counter()
-        for _ in range(STEPS):
-            O.step()
+        bw.run_steps(STEPS)
         wall.append((time.perf_counter() - t0) / STEPS * 1e6)
     return statistics.median(wall), wall
 
@@ -64,8 +64,7 @@ def engine_times():
     for e in O.engines:
         e.execTime = 0
     O.timingEnabled = True
-    for _ in range(STEPS):
-        O.step()
+    bw.run_steps(STEPS)
     O.timingEnabled = False
     return {(e.label or e.__class__.__name__): e.execTime * 1e-3 / STEPS for e in O.engines}
 

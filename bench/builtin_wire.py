@@ -357,9 +357,18 @@ def pull(velocity=0.05, max_elongation=None, record_every=100, stop_drop=0.2, ma
 	}
 
 
+def run_steps(n):
+	"""n steps as scripts run them, by O.run(n) (one run thread, no Python between the steps),
+	waited for by polling every 0.5 ms (O.wait() polls every 40 ms)."""
+	O.run(n)
+	while O.running:
+		time.sleep(0.0005)
+	O.wait()  # (raises what stopped the run, if anything did)
+
+
 def time_per_link_step(n_steps=500, reps=5, warmup=50, velocity=0.05):
-	"""Times the current panel while the top row moves at `velocity` [m/s] (links loaded), O.step()
-	loop, O.timingEnabled off.  Returns {'us_per_step': median, 'us_per_link_step': median / links,
+	"""Times the current panel while the top row moves at `velocity` [m/s] (links loaded), steps by
+	run_steps, O.timingEnabled off.  Returns {'us_per_step': median, 'us_per_link_step': median / links,
 	'us_per_step_all': [...], 'links': linked links, 'engines': {name: us/step} from one extra timed run}."""
 	for b in _PANEL['top']:
 		O.bodies[b].state.vel = Vector3(0, velocity, 0)
@@ -369,14 +378,12 @@ def time_per_link_step(n_steps=500, reps=5, warmup=50, velocity=0.05):
 	wall = []
 	for _ in range(reps):
 		t0 = time.perf_counter()
-		for _ in range(n_steps):
-			O.step()
+		run_steps(n_steps)
 		wall.append((time.perf_counter() - t0) / n_steps * 1e6)
 	for e in O.engines:
 		e.execTime = 0
 	O.timingEnabled = True
-	for _ in range(n_steps):
-		O.step()
+	run_steps(n_steps)
 	O.timingEnabled = False
 	eng = {(e.label or e.__class__.__name__): e.execTime * 1e-3 / n_steps for e in O.engines}
 	for b in _PANEL['top']:
