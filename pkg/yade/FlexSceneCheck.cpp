@@ -280,6 +280,7 @@ namespace flexa {
 			thread_local CheckMemo m;
 			return m;
 		}
+		thread_local int scriptFreeSteps = 0; // ScriptFreeSteps alive in this thread
 
 		// Whether this step needs the full pass: whenever a script can have run since the last
 		// step, or anything but yade-flex's engines can have changed the scene.
@@ -294,11 +295,15 @@ namespace flexa {
 			const VouchedStep& v = vouchedStep();
 			if (v.scene != scene || v.iter != m.iter) return true;
 			// a script: O.step() holds Python's lock while the step runs (O.run's thread does not)
-			if (PyGILState_Check()) return true;
+			if (!scriptFreeSteps && PyGILState_Check()) return true;
 			// a PyRunner (or another periodic engine) ran since the last step's check
 			return foreignEngineRanSince(scene, m.iter);
 		}
 	} // namespace
+
+	void checkNextStepInFull() { checkMemo().scene = nullptr; }
+	ScriptFreeSteps::ScriptFreeSteps() { ++scriptFreeSteps; }
+	ScriptFreeSteps::~ScriptFreeSteps() { --scriptFreeSteps; }
 
 	void checkScene(const Scene* scene, bool force)
 	{

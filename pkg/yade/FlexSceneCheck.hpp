@@ -32,6 +32,18 @@ namespace flexa {
 	/// problem found. Runs once per iteration, in full when a script can have changed the scene
 	/// since the last step (see checkScene's fullCheckDue); `force`: in full now.
 	void checkScene(const Scene* scene, bool force = false);
+	/// The next step this thread runs is checked in full (for callers that run steps themselves).
+	void checkNextStepInFull();
+	/// While one lives, the steps this thread runs have no script between them although Python's
+	/// lock is held (FlexRun.until: as O.step() it keeps the lock, handing it to other threads would
+	/// cost a switch interval each time it is taken back); the check then does not take the lock
+	/// as a sign that a script ran.
+	struct ScriptFreeSteps {
+		ScriptFreeSteps();
+		~ScriptFreeSteps();
+		ScriptFreeSteps(const ScriptFreeSteps&)            = delete;
+		ScriptFreeSteps& operator=(const ScriptFreeSteps&) = delete;
+	};
 	/// Largest magnitude taken for a coordinate, velocity, radius, mass or inertia: the contact
 	/// and energy arithmetic multiplies up to three such values (k d^2, m v^2), which then stay
 	/// finite in double precision (1e100^3 = 1e300 < 1.8e308).

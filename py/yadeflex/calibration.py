@@ -27,6 +27,7 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import FrictMat, Sphere
 
 from . import checks as C
+from .scene import step_until
 from .module import FILLS, LIMITS, UNBALANCED_TOL, G, check_fill, settle_grains, fill_engines, _settle
 
 # the heap's flank: the part of the surface profile between these fractions of its height
@@ -104,7 +105,7 @@ def repose_test(fill="gravel", friction_deg=None, rolling_friction=None, young=N
         O.bodies[f].state.vel = Vector3(0, 0, lift_speed)
     lift = height + 0.05
     while O.time - t0 < lift / lift_speed:
-        O.run(200, True)
+        step_until(math.inf, 200)
         if progress:
             progress("lifting the cylinder", O.iter - it0, O.time - t0, lift / lift_speed)
     for f in container:
@@ -209,7 +210,7 @@ def oedometer_test(fill="gravel", friction_deg=None, rolling_friction=None, youn
     curve = dict(strain=[], sigma_top=[], sigma_bottom=[], sigma_h=[])
     it0 = O.iter
     while True:
-        O.run(every, True)
+        step_until(math.inf, every)
         zp = O.bodies[plate].state.pos[2]
         radial = 0.0
         for f in container:
@@ -301,7 +302,7 @@ def plate_load_test(fill="gravel", friction_deg=None, rolling_friction=None, you
     curve = dict(s=[], p=[], sigma_bottom=[])
     it0 = O.iter
     while True:
-        O.run(every, True)
+        step_until(math.inf, every)
         curve["s"].append(z0 - O.bodies[plate[0]].state.pos[2])
         curve["p"].append(sum(O.forces.f(f)[2] for f in plate) / area)
         curve["sigma_bottom"].append(-O.forces.f(floor)[2] / floor_area)

@@ -52,7 +52,7 @@ def first_bending_frequency(segments=10, length=1.0, radius=0.01, window=0.5):
     O.forces.setPermF(s["tip"], Vector3(0, 0, 0))
     tip = O.bodies[s["tip"]]
     t, z = [], []
-    O.run(1, True)
+    O.step()
     t0 = O.time
     while O.time < t0 + window:
         S.advance(50)  # ~90 samples per period

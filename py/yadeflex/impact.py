@@ -24,7 +24,7 @@ from .files import CsvStream, ResultsFolder, write_json
 from .impact_plots import write_plots
 from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G, UNBALANCED_TOL
 from .output import VtkRecorder
-from .scene import contact_law
+from .scene import contact_law, step_until
 from .signals import Interrupted, Signals
 
 PROG = "damping_module"  # the main job: its name starts the lines it writes to stderr
@@ -334,8 +334,15 @@ class ImpactRun:
         ts = next(e for e in O.engines if e.label == "flexDt")
         guard = next((e for e in O.engines if type(e).__name__ == "FlexGuard"), None)
         while O.time < self.times.end:
+            # the steps up to the next record, frame, end or multiple of 500 steps (where the step is
+            # looked at) in one call: the same steps as O.step() one at a time, the scene checked
+            # once for what this loop might have changed (it changes nothing)
+            until = min(next_rec, self.times.end, next_vtk if vtk is not None else math.inf)
+            steps = 500 - O.iter % 500
+            if O.time >= until:  # (a record or frame due again at once: one step, as one O.step())
+                until, steps = math.inf, 1
             try:
-                O.step()
+                step_until(until, steps)
             except RuntimeError:  # FlexGuard: non-finite state, runaway step or energy created; names the bodies
                 if guard is None or not guard.message:
                     raise

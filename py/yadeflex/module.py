@@ -44,7 +44,7 @@ from . import checks as C
 from . import membrane as M
 from .materials import FRICTION_DEG
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_DX, TECCO_G65_DY, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
-from .scene import engines, DAMPING, ROLLING_FRICTION
+from .scene import engines, step_until, DAMPING, ROLLING_FRICTION
 
 G = 9.81
 # a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
@@ -351,8 +351,7 @@ def _settle(ke_tol, max_steps, chunk=500, progress=None, unbalanced_tol=None):
     steps = 0
     ubf = float("nan")
     while steps < max_steps:
-        for _ in range(chunk):
-            O.step()
+        step_until(math.inf, chunk)
         steps += chunk
         ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in O.bodies if b is not None and isinstance(b.shape, Sphere))
         if progress:
@@ -803,5 +802,5 @@ def impact_start(params, cache_dir=None, max_fall=0.5):
     while not touches(bid):
         if O.time - t0 > max_fall:
             raise RuntimeError("the boulder never touched the module")
-        O.run(50, True)
+        step_until(math.inf, 50)
     return ids, bid, members

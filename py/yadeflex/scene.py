@@ -10,7 +10,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionL
                           Ig2_FlexFacet_FlexFacet_FlexContactGeom, Ig2_Sphere_Sphere_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator, FlexGuard,
-                          FlexCylinder, FlexNode, Sphere)
+                          FlexCylinder, FlexNode, Sphere, FlexRun)
 
 from . import checks as C
 from .builders import check_finite
@@ -104,6 +104,15 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
 def critical_timestep():
     """Critical time step of the current scene [s] from bonds and contacts (no change to O.dt)."""
     return FlexTimeStepper().critical()
+
+
+def step_until(time, max_steps):
+    """Step the scene until O.time >= time [s] (inf: no limit) or max_steps steps were taken, with no Python
+    between the steps (as O.run; a PyRunner still runs); returns the number of steps taken. For
+    loops that record between steps: O.step() in a loop makes every step check the whole scene
+    for what the script may have changed, this checks it once. Raises what O.step() raises."""
+    max_steps = C.integer("max_steps", max_steps, 0)
+    return FlexRun.until(math.inf if time == math.inf else C.number("time", time), max_steps)
 
 
 def energy_budget():

@@ -12,7 +12,7 @@ from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
 from . import builders as B
 from . import checks as C
 from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO
-from .scene import engines, engine_args
+from .scene import engines, engine_args, step_until
 
 
 def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact_ratio=0.25, velocity=(0, 0, 0)):
@@ -73,14 +73,9 @@ def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, grav
 
 
 def advance(n):
-    """Advance n steps. O.run(n, True) costs ~40 ms of waiting per call in YADE 2023.02a, so
-    short advances step in-process instead; the engines run identically."""
-    n = C.integer("n", n, 0)
-    if n >= 20000:
-        O.run(n, True)
-    else:
-        for _ in range(n):
-            O.step()
+    """Advance n steps (yadeflex.step_until: O.run(n, True) waits in steps of 40 ms in YADE
+    2023.02a; the engines run identically)."""
+    step_until(math.inf, C.integer("n", n, 0))
 
 
 def settle(ids, rel_tol=1e-9, chunk=2000, max_steps=2_000_000):

@@ -10,7 +10,7 @@ from yade.minieigenHP import Vector3
 
 from . import builders as B
 from . import checks as C
-from .scene import engines, engine_args
+from .scene import engines, engine_args, step_until
 from .scenes import _check_chain
 
 
@@ -151,7 +151,7 @@ def mesh_tensile_test(scene, max_elongation=0.8, chunk=200, stop_fraction=0.3):
     eng = next(x for x in O.engines if type(x).__name__ == "FlexElementEngine")
     O.step()
     while True:
-        O.run(chunk, True)
+        step_until(math.inf, chunk)
         e = (O.bodies[scene["driven"][0]].state.pos[ax] - x0) / L
         f_drv = -_edge_force(scene["driven"], ax)
         f_hld = _edge_force(scene["held"], ax)
@@ -312,7 +312,7 @@ def ring_pull(ring_radius=0.3, bar_radius=0.005, segments=48, stretch=0.3, speed
     d, f = [0.0], [0.0]
     O.step()
     while d[-1] < stretch * ring_radius:
-        O.run(chunk, True)
+        step_until(math.inf, chunk)
         d.append((O.bodies[top].state.pos - p0).dot(up))
         f.append(-O.forces.f(top).dot(up))
     return dict(deflection=d, force=f, linear_stiffness=k_lin,

@@ -96,6 +96,8 @@ BAD = [
     (yf.engines, lambda c: ((), dict(rolling_friction=NAN)), "rolling_friction"),
     (yf.engines, lambda c: ((), dict(timestep_interval=0)), "timestep_interval"),
     (scene_mod.engine_args, lambda c: ((), dict(damping=NAN)), "damping"),
+    (yf.step_until, lambda c: ((NAN, 10), {}), "time"),
+    (yf.step_until, lambda c: ((1.0, -1), {}), "max_steps"),
     (scenes.sphere, lambda c: (((0, 0, 1), 0.1), dict(contact_ratio=NAN)), "contact_ratio"),
     (scenes.sphere, lambda c: (((0, 0, 1), 0.1), dict(velocity=(NAN, 0, 0))), "sphere velocity"),
     (scenes.sphere, lambda c: (((0, 0, 1), 0.1), dict(friction_deg=NAN)), "friction_deg"),

@@ -150,3 +150,69 @@ def test_a_clean_run_is_not_refused_and_gives_the_same_motion_as_stepping(scene)
         O.step()
     by_step = [tuple(b.state.pos) for b in O.bodies if b is not None]
     assert by_run == by_step
+
+
+# ---- yf.step_until: the steps of a recording loop without the interpreter between them
+
+
+def test_step_until_takes_the_same_steps_as_O_step(scene):
+    _net()
+    O.saveTmp("start")
+    O.loadTmp("start")
+    t_end = O.time + 150.5 * O.dt
+    n = yf.step_until(t_end, 10 ** 6)
+    by_until = ([tuple(b.state.pos) for b in O.bodies if b is not None], O.iter, O.time)
+    O.loadTmp("start")
+    k = 0
+    while O.time < t_end:
+        O.step()
+        k += 1
+    assert n == k and by_until == ([tuple(b.state.pos) for b in O.bodies if b is not None], O.iter, O.time)
+    assert yf.step_until(t_end, 10) == 0  # (already there)
+    assert yf.step_until(math.inf, 7) == 7 and yf.step_until(math.inf, 0) == 0
+
+
+def test_step_until_checks_what_the_script_changed_and_what_the_steps_make(scene):
+    s = _net()
+    start = O.iter
+    O.bodies[s["sphere"]].state.mass = -1.0
+    with pytest.raises(ValueError, match=f"body #{s['sphere']} \\(Sphere\\): state.mass"):
+        yf.step_until(math.inf, 100)
+    assert O.iter == start
+    O.bodies[s["sphere"]].state.mass = 1.0
+    victim = s["grid"][3][2]
+    O.forces.setPermF(victim, Vector3(0, 0, math.nan))
+    with pytest.raises(ValueError, match=f"body #{victim} \\(FlexNode\\): state.vel became non-finite"):
+        yf.step_until(math.inf, 100)
+    assert O.iter == start
+
+
+def test_step_until_runs_pyrunners_and_checks_what_they_change(scene):
+    s = _net()
+    calls = []
+    _py("_count_call", lambda: calls.append(O.iter))
+    at = O.iter + 40
+    _py("_spoil_radius", lambda: setattr(O.bodies[s["sphere"]].shape, "radius", -0.1))
+    O.engines = O.engines + [PyRunner(command="_count_call()", iterPeriod=10),
+                             PyRunner(command="_spoil_radius()", iterPeriod=1, firstIterRun=at, nDo=1)]
+    with pytest.raises(ValueError, match=f"body #{s['sphere']} \\(Sphere\\): shape.radius"):
+        yf.step_until(math.inf, 100)
+    assert O.iter == at + 1 and len(calls) == 4
+
+
+@pytest.mark.parametrize("args, match", [((math.nan, 10), "time"), ((1.0, -1), "max_steps"), ((1.0, 2.5), "max_steps"), (("1", 10), "time")])
+def test_step_until_refuses_bad_arguments(scene, args, match):
+    _net()
+    with pytest.raises(ValueError, match=match):
+        yf.step_until(*args)
+
+
+def test_step_until_is_refused_while_running(scene):
+    _net()
+    O.run()
+    try:
+        with pytest.raises(RuntimeError, match="running"):
+            yf.step_until(math.inf, 10)
+    finally:
+        O.pause()
+        O.wait()
