@@ -3,6 +3,7 @@ except while a record is being written, which they end first; once the run is ov
 noted, so that its summary is written whole."""
 import contextlib
 import signal
+import threading
 
 
 class Interrupted(Exception):
@@ -14,10 +15,12 @@ class Signals:
     deferred() block (a record: one row to each time series), which they end first. Once one
     has raised, or after hold() (the run is over), further ones are only noted: the summary is
     written whole. A SIGINT the run was started to ignore (nohup, a background job) stays
-    ignored. restore() puts the handlers back."""
+    ignored. restore() puts the handlers back. Outside the main thread (a run started from a
+    worker thread, where Python delivers no signal) nothing is installed."""
 
     def __init__(self):
-        self.saved = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+        main = threading.current_thread() is threading.main_thread()
+        self.saved = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)} if main else {}
         self.deferring = self.holding = False
         self.pending = None
         for sig, h in self.saved.items():

@@ -386,3 +386,29 @@ def test_setup_waits_for_another_setup(tmp_path):
     assert "waiting for another setup" in err and "does not hold YADE's source" in err, err[-2000:]
     assert err.index("waiting for another setup") < err.index("does not hold YADE's source")
     assert not (tmp_path / "prefix").exists()
+
+
+def test_signal_handlers_in_the_main_thread_only():
+    """run_impact's Signals: in the main thread SIGTERM's handler is replaced and put back; in
+    another thread (a run started from a worker thread) nothing is touched and nothing raises."""
+    import threading
+    from yadeflex.signals import Signals
+    before = signal.getsignal(signal.SIGTERM)
+    s = Signals()
+    assert signal.getsignal(signal.SIGTERM) == s._handler
+    s.restore()
+    assert signal.getsignal(signal.SIGTERM) == before
+    out = {}
+
+    def work():
+        try:
+            t = Signals()
+            t.restore()
+            out["saved"] = t.saved
+        except Exception as e:  # noqa: BLE001
+            out["error"] = repr(e)
+
+    th = threading.Thread(target=work)
+    th.start()
+    th.join()
+    assert out == {"saved": {}} and signal.getsignal(signal.SIGTERM) == before
