@@ -140,7 +140,7 @@ namespace {
 
 void FlexElementEngine::action()
 {
-	flexa::checkScene(scene);
+	flexa::checkScene(scene, this);
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
 	flexa::checkWireMaterials(scene);
 	const long              n = (long)cylinders.size();

@@ -83,7 +83,7 @@ bool FlexInteractionLoop::fallBack()
 
 void FlexInteractionLoop::action()
 {
-	flexa::checkScene(scene);
+	flexa::checkScene(scene, this);
 	if (fallBack()) return;
 	usedFastPath          = true;
 	lawDispatcher->scene  = scene;

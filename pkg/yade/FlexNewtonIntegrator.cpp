@@ -162,7 +162,7 @@ Real FlexNewtonIntegrator::dampingOnBlockedDofs()
 
 void FlexNewtonIntegrator::action()
 {
-	flexa::checkScene(scene);
+	flexa::checkScene(scene, this);
 	flexa::checkTimeStep(scene);
 	if (scene->bodies->size() != cachedBodyCount) refresh();
 	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
@@ -174,6 +174,11 @@ void FlexNewtonIntegrator::action()
 		NewtonIntegrator::action();
 		if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
 		flagElements();
+		// the motions it made, refused as the fast path refuses them (a pass of its own here)
+		for (const auto& b : *scene->bodies)
+			if (b && !b->isClumpMember() && !flexa::motionValid(*b->state))
+				flexa::refuseIntegrated(scene, b->id, scene->forces.getForce(b->id), scene->forces.getTorque(b->id));
+		flexa::vouchedStep() = { scene, scene->iter };
 		return;
 	}
 	scene->forces.sync();

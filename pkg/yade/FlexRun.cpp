@@ -2,6 +2,8 @@
 #include "FlexRun.hpp"
 #include "FlexSceneCheck.hpp"
 
+#include <boost/python/errors.hpp>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -9,6 +11,10 @@
 namespace yade {
 
 YADE_PLUGIN((FlexRun));
+
+namespace {
+	constexpr long kSignalEvery = 1000; // steps between two looks at pending signals
+}
 
 long FlexRun::until(Real time, long maxSteps)
 {
@@ -31,6 +37,16 @@ long FlexRun::until(Real time, long maxSteps)
 	while (n < maxSteps && scene->time < time) {
 		scene->moveToNextTimeStep();
 		++n;
+		// a PyRunner may have started O.run() (its thread would step this scene too) or put
+		// another scene in place
+		if (omega.isRunning()) throw std::runtime_error("FlexRun.until: O.run() was called during the steps (from a PyRunner?); stopped");
+		if (omega.getScene() != scene) break;
+		// Ctrl-C and other signals: their Python handlers run here (a script: the next step is
+		// checked in full)
+		if (n % kSignalEvery == 0) {
+			if (PyErr_CheckSignals() != 0) boost::python::throw_error_already_set();
+			flexa::checkNextStepInFull();
+		}
 	}
 	return n;
 }

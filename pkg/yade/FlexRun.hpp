@@ -14,9 +14,11 @@ namespace yade {
 
 class FlexRun : public Serializable {
 public:
-	/// Steps the current scene until O.time >= time or maxSteps steps were taken; returns the
-	/// number of steps taken. Refuses while O.run() runs. An engine's exception propagates as
-	/// O.step()'s does (the step that threw does not count).
+	/// Steps the current scene until O.time >= time or maxSteps steps were taken (or another scene
+	/// was put in place); returns the number of steps taken. Refuses while O.run() runs, and stops
+	/// with an error if a PyRunner starts it. Pending signals (Ctrl-C) are looked at every 1000
+	/// steps. An engine's exception propagates as O.step()'s does (the step that threw does not
+	/// count).
 	static long until(Real time, long maxSteps);
 	virtual ~FlexRun() = default;
 	// clang-format off

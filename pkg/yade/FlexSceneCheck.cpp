@@ -271,8 +271,9 @@ namespace flexa {
 			// (and its interaction container, by its shared owner, which the weak reference keeps
 			// from being reused: a scene loaded later where this one was is checked too)
 			boost::weak_ptr<InteractionContainer> container;
-			long                                  iter     = -1; // of the last step checked, in full or not
-			long                                  fullIter = -1; // of the last full check
+			long                                  iter     = -1;      // of the last step checked, in full or not
+			const void*                           checker  = nullptr; // the engine that asked for it
+			long                                  fullIter = -1;      // of the last full check
 			size_t                                bodies   = 0;
 		};
 		CheckMemo& checkMemo()
@@ -305,14 +306,16 @@ namespace flexa {
 	ScriptFreeSteps::ScriptFreeSteps() { ++scriptFreeSteps; }
 	ScriptFreeSteps::~ScriptFreeSteps() { --scriptFreeSteps; }
 
-	void checkScene(const Scene* scene, bool force)
+	void checkScene(const Scene* scene, const void* caller, bool force)
 	{
 		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
 		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
 		CheckMemo&                        memo = checkMemo();
-		if (!force && scene == memo.scene && scene->iter == memo.iter && sameOwner(memo.container, scene->interactions)) return;
+		if (!force && scene == memo.scene && scene->iter == memo.iter && caller != memo.checker && sameOwner(memo.container, scene->interactions))
+			return; // (checked for this step by an engine before)
 		if (!force && !fullCheckDue(scene, memo)) {
-			memo.iter = scene->iter;
+			memo.iter    = scene->iter;
+			memo.checker = caller;
 			return;
 		}
 		checkEngines(scene);
@@ -380,6 +383,7 @@ namespace flexa {
 		memo.scene     = scene;
 		memo.container = scene->interactions;
 		memo.iter      = scene->iter;
+		memo.checker   = caller;
 		memo.fullIter  = scene->iter;
 		memo.bodies    = scene->bodies->size();
 	}

@@ -134,7 +134,7 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 
 void FlexTimeStepper::action()
 {
-	flexa::checkScene(scene);
+	flexa::checkScene(scene, this);
 	if (interval < 1) throw std::invalid_argument("FlexTimeStepper.interval must be >= 1");
 	if (!(safety > 0) || safety > 1) throw std::invalid_argument("FlexTimeStepper.safety must be in (0, 1]");
 	// Also whenever the collider ran: only the collider adds (potential) interactions, and a new

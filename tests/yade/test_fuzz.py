@@ -18,6 +18,7 @@ from yadeflex import scenes
 from yadeflex.membrane import sheet, geotextile
 
 SEED, CASES, STEPS = 20261203, 400, 5
+RUN_EDIT_AT, RUN_STEPS = 10, 15  # (the scene check's periodic full pass: every 32 steps from the run's first)
 CLEAN, HARMLESS, SILENT, UNNAMED = 10, 11, 12, 13
 BAD_REALS = (math.nan, math.inf, -math.inf, 0.0, -1.0, -1e-9, 1e300, -1e300)
 BAD_IDS = (-1, -7, 10 ** 6, 2 ** 31 - 1)
@@ -107,14 +108,16 @@ def _all_finite():
 
 
 def _run_with_edit(edit):
-    """The edit made by a PyRunner at the end of the first step of O.run(STEPS, True), as a script
-    does mid-run. YADE's O.wait() can miss the run thread's error when that thread has already
-    stopped (test_guard): a run that stopped early is asked again with O.step()."""
+    """The edit made by a PyRunner at the end of step RUN_EDIT_AT of O.run(RUN_STEPS, True), as a
+    script does mid-run: past the run's first steps, which are checked in full anyway, and before
+    the periodic full pass, so that only the PyRunner's having run makes the next step check it.
+    YADE's O.wait() can miss the run thread's error when that thread has already stopped
+    (test_guard): a run that stopped early is asked again with O.step()."""
     import __main__
     __main__._fuzz_edit = edit
-    O.engines = O.engines + [PyRunner(command="_fuzz_edit()", iterPeriod=1, firstIterRun=O.iter, nDo=1)]
-    target = O.iter + STEPS
-    O.run(STEPS, True)
+    O.engines = O.engines + [PyRunner(command="_fuzz_edit()", iterPeriod=1, firstIterRun=O.iter + RUN_EDIT_AT, nDo=1)]
+    target = O.iter + RUN_STEPS
+    O.run(RUN_STEPS, True)
     if O.iter != target:
         O.step()  # (raises what stopped the run)
         raise RuntimeError(f"the run stopped at iteration {O.iter} of {target} without an error")
