@@ -205,27 +205,22 @@ namespace flexa {
 			bool         element = false;
 			if (sh) {
 				// (by class index: a comparison of type_info across shared libraries compares names)
-				const int k = sh->getClassIndex();
+				const int           k = sh->getClassIndex();
+				const FlexCylinder* c = nullptr;
+				const FlexFacet*    f = nullptr;
 				if (k == FlexNode::getClassIndexStatic())
 					isNode = 1;
 				else if (k == Sphere::getClassIndexStatic())
 					checkRadius(b, static_cast<const Sphere*>(sh)->radius);
-				else if (k == FlexCylinder::getClassIndexStatic()) {
-					const FlexCylinder* c = static_cast<const FlexCylinder*>(sh);
-					element               = true;
-					rec                   = { { c->node1, c->node2, -1 }, 2, c->radius };
-				} else if (k == FlexFacet::getClassIndexStatic()) {
-					const FlexFacet* f = static_cast<const FlexFacet*>(sh);
-					element            = true;
-					rec                = { { f->node1, f->node2, f->node3 }, 3, f->radius };
-				} else if (const FlexCylinder* c = dynamic_cast<const FlexCylinder*>(sh)) {
-					element = true;
-					rec     = { { c->node1, c->node2, -1 }, 2, c->radius };
-				} else if (const FlexFacet* f = dynamic_cast<const FlexFacet*>(sh)) {
-					element = true;
-					rec     = { { f->node1, f->node2, f->node3 }, 3, f->radius };
-				} else if (const Sphere* sp = dynamic_cast<const Sphere*>(sh))
-					checkRadius(b, sp->radius);
+				else if (k == FlexCylinder::getClassIndexStatic())
+					c = static_cast<const FlexCylinder*>(sh);
+				else if (k == FlexFacet::getClassIndexStatic())
+					f = static_cast<const FlexFacet*>(sh);
+				else if (!(c = dynamic_cast<const FlexCylinder*>(sh)) && !(f = dynamic_cast<const FlexFacet*>(sh)))
+					if (const Sphere* sp = dynamic_cast<const Sphere*>(sh)) checkRadius(b, sp->radius);
+				if (c) rec = { { c->node1, c->node2, -1 }, 2, c->radius };
+				if (f) rec = { { f->node1, f->node2, f->node3 }, 3, f->radius };
+				element   = c || f;
 				isElement = element;
 			}
 			if (b.state && !stateValid(b, element)) checkState(b, element);
@@ -306,14 +301,14 @@ namespace flexa {
 	ScriptFreeSteps::ScriptFreeSteps() { ++scriptFreeSteps; }
 	ScriptFreeSteps::~ScriptFreeSteps() { --scriptFreeSteps; }
 
-	void checkScene(const Scene* scene, const void* caller, bool force)
+	void checkScene(const Scene* scene, const void* caller)
 	{
 		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
 		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
 		CheckMemo&                        memo = checkMemo();
-		if (!force && scene == memo.scene && scene->iter == memo.iter && caller != memo.checker && sameOwner(memo.container, scene->interactions))
+		if (scene == memo.scene && scene->iter == memo.iter && caller != memo.checker && sameOwner(memo.container, scene->interactions))
 			return; // (checked for this step by an engine before)
-		if (!force && !fullCheckDue(scene, memo)) {
+		if (!fullCheckDue(scene, memo)) {
 			memo.iter    = scene->iter;
 			memo.checker = caller;
 			return;

@@ -30,11 +30,11 @@ namespace yade {
 namespace flexa {
 	/// Throws std::invalid_argument naming the body (or material) and the field at the first
 	/// problem found. Runs once per step, in full when a script can have changed the scene since
-	/// the last step (see checkScene's fullCheckDue); `force`: in full now. `caller`: the engine
+	/// the last step (see checkScene's fullCheckDue). `caller`: the engine
 	/// asking; the first to ask in a step asks for the step, so its asking again at the same
 	/// iteration is a step run again (after one that threw: a refused step leaves the bodies it
 	/// moved moved, O.iter and O.time where they were) and is checked again.
-	void checkScene(const Scene* scene, const void* caller, bool force = false);
+	void checkScene(const Scene* scene, const void* caller);
 	/// The next step this thread runs is checked in full (for callers that run steps themselves).
 	void checkNextStepInFull();
 	/// While one lives, the steps this thread runs have no script between them although Python's
