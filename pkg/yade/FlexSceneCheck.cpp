@@ -273,8 +273,11 @@ namespace flexa {
 		};
 		CheckMemo& checkMemo()
 		{
-			thread_local CheckMemo m;
-			return m;
+			// never destroyed (a few dozen bytes per O.run() call): a run thread's exit would
+			// otherwise release its weak reference to a container, outside Python's lock and at
+			// no set time, as the marks of FlexProtocol.hpp avoid
+			thread_local CheckMemo* m = new CheckMemo;
+			return *m;
 		}
 		thread_local int scriptFreeSteps = 0; // ScriptFreeSteps alive in this thread
 
