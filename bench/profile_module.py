@@ -9,7 +9,8 @@
 # the one asked for). Each child loads the filled module of the main job (yadeflex.module,
 # cached in ~/.cache/yadeflex/modules; built on first use), adds the boulder with the main
 # job's engines, steps until 5 ms after the boulder's first contact (the fill and the mesh are
-# then loaded, as in the body of the impact), then times --steps steps with O.timingEnabled:
+# then loaded, as in the body of the impact), then times --steps steps with O.timingEnabled
+# (stepped by yadeflex.scene.step_until, as the main job steps):
 # wall time per step and each engine's execTime. With --perf (first repetition at -j1 only),
 # `perf record` samples the child during that window and the samples are grouped by function.
 # --baseline PREFIX also runs another build (installed with `YADE_PREFIX=PREFIX scripts/setup`),
@@ -20,6 +21,7 @@
 import argparse
 import csv
 import json
+import math
 import os
 import re
 import shutil
@@ -76,9 +78,20 @@ def child(a):
         perf = subprocess.Popen(["perf", "record", "-F", "999", "-p", str(os.getpid()), "-o", a.perf_data], stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
         time.sleep(1.0)  # perf attaches
+    # timed as the main job steps (yadeflex.scene.step_until: no Python between the steps, the
+    # scene checked in full as in O.run); O.step() in a loop for a build without it
+    try:
+        from yade.wrapper import FlexRun  # noqa: F401
+        from yadeflex.scene import step_until
+        stepping = "step_until"
+    except ImportError:
+        stepping = "O.step"
     w0 = time.perf_counter()
-    for _ in range(a.steps):
-        O.step()
+    if stepping == "step_until":
+        step_until(math.inf, a.steps)
+    else:
+        for _ in range(a.steps):
+            O.step()
     wall = time.perf_counter() - w0
     if perf:
         perf.send_signal(signal.SIGINT)
@@ -86,7 +99,7 @@ def child(a):
     engines = {(e.label or type(e).__name__): e.execTime / 1e3 / a.steps for e in O.engines}
     print("PROFILE " + json.dumps(dict(us_per_step=1e6 * wall / a.steps, engines=engines, dt=O.dt, bodies=len(O.bodies),
                                        interactions=len(O.interactions), real=O.interactions.countReal(),
-                                       fast_path=bool(O.engines[-1].usedFastPath))), flush=True)
+                                       fast_path=bool(O.engines[-1].usedFastPath), stepping=stepping)), flush=True)
 
 
 # function name (substring) -> group, first match wins
@@ -182,7 +195,7 @@ def parent(a):
                 d.update(threads=t, rep=rep, label=label)
                 runs.append(d)
                 print(f"  {label} -j{t} rep {rep}: {d['us_per_step']:.0f} us/step, {d['interactions']} interactions ({d['real']} real), "
-                      f"dt {d['dt']:.3g} s, fast path {d['fast_path']}", flush=True)
+                      f"dt {d['dt']:.3g} s, fast path {d['fast_path']}, {d.get('stepping', 'O.step')}", flush=True)
                 if tmp:
                     funcs = perf_functions(os.path.join(tmp, "perf.data"))
                     shutil.rmtree(tmp, ignore_errors=True)

@@ -112,6 +112,7 @@ void FlexInteractionLoop::action()
 	step.makeSphereTable();
 	step.startRecords();
 	step.splitByWeight();
+	step.makeShares();
 	step.prepareThreadSums();
 	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
 #ifdef YADE_OPENMP

@@ -43,7 +43,9 @@
 // from Python stays the live object. Each copy is released on its own; the block with its last.
 //
 // On several threads, each thread takes one contiguous run of blocks, split so that each
-// thread's blocks took about as long on the last step; and (threadSums) the yade-flex contact law
+// thread's blocks took about as long on the last step, then blocks left at the back of the other
+// threads' runs (flex::BlockShares: a run that takes longer than on the last step is finished by
+// the threads that are done); and (threadSums) the yade-flex contact law
 // adds its forces to the thread's own per-body sums (flexa::ThreadForceSums), added to the
 // ForceContainer once per body after the loop, instead of ForceContainer::addForce per contact,
 // whose writes to fields shared by all threads contend. One thread runs exactly as before.
@@ -138,7 +140,7 @@ public:
 	YADE_CLASS_BASE_DOC_ATTRS(FlexInteractionLoop, InteractionLoop,
 		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/FlexLoop.hpp.",
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
-		((int, blockSize, flexa::tuning::kBlockSize, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache [-]"))
+		((int, blockSize, flexa::tuning::kBlockSize, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache, then blocks left at the end of the other threads' runs [-]"))
 		((Vector3i, ahead, Vector3i(flexa::tuning::kAheadObjects, flexa::tuning::kAheadTargets, flexa::tuning::kAheadStates), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
 		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
 		((bool, fuseSpheres, true, , "On the prefetching loop, run an existing sphere-sphere contact (Ig2_Sphere_Sphere_FlexContactGeom, Ip2_FrictMat_FrictMat_FrictPhys, Law2_FlexContactGeom_FrictPhys_CundallStrack, two plain spheres) as one call from a table of the spheres' centres, radii, velocities and angular velocities made at the start of the step, without reading their bodies, states and shapes or calling the three functors through the dispatch; False: through the functors (for comparisons). Same results bit for bit."))

@@ -6,6 +6,8 @@
 #include "FlexProtocol.hpp"
 #include "FlexTuning.hpp"
 
+#include <kernel/BlockShares.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -54,6 +56,7 @@ public:
 	unsigned                                      gen[3]   = { 0, 0, 0 }; // by kind
 	bool                                          weighted = false;
 	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
+	flex::BlockShares                             shares; // the blocks still to run of each thread's share
 	int                                           nSums = 0;
 	// the first exception of any thread; after it the threads stop calling functors
 	std::exception_ptr error;
@@ -289,35 +292,41 @@ public:
 		failed = true;
 	}
 
-	// One thread's share: one contiguous run of blocks, of about equal work by the last step's
-	// weights (handed out one by one, the threads would work on neighbouring blocks and share
-	// their cache lines).
+	// the threads' shares: contiguous runs of blocks of about equal work by the last step's weights
+	void makeShares()
+	{
+		std::vector<long> starts(threads + 1);
+		for (int k = 0; k <= threads; ++k)
+			starts[k] = blockAtWeight(k, threads);
+		shares.reset(starts);
+	}
+
+	// One thread's work (flex::BlockShares): its own share, one contiguous run of blocks (handed out
+	// one by one, the threads would work on neighbouring blocks and share their cache lines), then
+	// blocks left in the others' shares, so that a share that takes longer than on the last step
+	// (a collider run, another process on the core) is finished by the threads that are done.
 	void runThread(Counts& cnt)
 	{
 		flexa::ForceSink sink;
+		int              tid = 0;
 #ifdef YADE_OPENMP
-		if (nSums) sink = L.sums.sink(omp_get_thread_num());
+		tid = omp_get_thread_num();
+		if (nSums) sink = L.sums.sink(tid);
 #endif
 		flexa::ForceSinkScope sinkScope(nSums ? &sink : nullptr);
-		long                  cBegin = 0, cEnd = nBlocks;
-#ifdef YADE_OPENMP
-		{
-			const int nt = omp_get_num_threads(), tid = omp_get_thread_num();
-			cBegin = blockAtWeight(tid, nt);
-			cEnd   = blockAtWeight(tid + 1, nt);
-		}
-#endif
-		long live[flexa::tuning::kMaxBlock];
-		bool fused[flexa::tuning::kMaxBlock]; // the fused path (fuseSpheres)
-		for (long c = cBegin; c < cEnd; ++c) {
-			if (failed) continue;
-			const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
-			const long lo = c * block, hi = std::min(n, lo + block);
-			const int  nLive = listLive(lo, hi, live, fused, cnt);
-			runLive(live, fused, nLive);
-			if (weighted) // this block's time, for the next step's split
-				L.blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
-		}
+		long                  live[flexa::tuning::kMaxBlock];
+		bool                  fused[flexa::tuning::kMaxBlock]; // the fused path (fuseSpheres)
+		shares.run(
+		        tid,
+		        [&](long c) {
+			        const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+			        const long lo = c * block, hi = std::min(n, lo + block);
+			        const int  nLive = listLive(lo, hi, live, fused, cnt);
+			        runLive(live, fused, nLive);
+			        if (weighted) // this block's time, for the next step's split
+				        L.blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
+		        },
+		        [&]() { return failed.load(std::memory_order_relaxed); });
 	}
 
 	// Pass 1: the block's interaction objects [lo, hi) (streamed in, kFar ahead), and which of
