@@ -18,6 +18,7 @@ public:
 	enum Group : long { kErased = -1, kNoGroup = 0, kNodes, kCylinders, kFacets, kSpheres, kClumps, kBoxes, kRigidFacets, kWalls };
 	boost::python::dict bodies() const;
 	boost::python::dict contacts() const;
+	boost::python::dict elements(long group) const;
 	virtual ~FlexSnapshot() = default;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexSnapshot, Serializable,
@@ -25,6 +26,7 @@ public:
 		/* no attributes */,
 		/* ctor */,
 		.def("bodies", &FlexSnapshot::bodies, "One row per body slot (len(O.bodies)), in id order: 'group' (int64: -1 erased, 0 none of these, 1 FlexNode, 2 FlexCylinder, 3 FlexFacet, 4 Sphere, 5 Clump, 6 Box, 7 Facet, 8 Wall; the first class the shape is an instance of), 'clumped' (int64: 1 for a clump or a clump member), 'pos', 'vel', 'angVel' (3 float64 each), 'mass', 'radius' (float64; the shape's radius for FlexNode and Sphere, else NaN), 'blocked' (int64: number of blocked DOFs).")
+		.def("elements", &FlexSnapshot::elements, (boost::python::arg("group")), "The bodies of one element group (2: FlexCylinder, 3: FlexFacet; the group codes of bodies()), one row each, in id order: 'id' (int64), 'nodes' (int64, 2 per cylinder, 3 per facet: node1, node2[, node3]) and one float64 array per shape field: for cylinders radius, axialForce, strain, plasticStrain, maxStrain, hardeningVar, wireSlack, elasticEnergy, L0; for facets radius, n1, n2, e1, e2, elasticEnergy, pressure, area0. Another group raises ValueError.")
 		.def("contacts", &FlexSnapshot::contacts, "One row per real interaction whose physics is a NormShearPhys (not a FlexContactGeom handed over to a neighbour: active false), in O.interactions' order: 'id1', 'id2' (int64), 'end1', 'end2' (3 float64: the centre of each side: a FlexContactGeom's axis point, else a sphere's centre, else the contact point), 'contactPoint', 'normal', 'normalForce', 'shearForce' (3 float64; NaN where the geometry has no such field) and 'penetrationDepth' (float64, NaN where the geometry has none).")
 	);
 	// clang-format on

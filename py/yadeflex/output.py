@@ -43,7 +43,6 @@ n2, elasticEnergy, pressure) 0 and the others as in the last frame that held it 
 element that ruptures between two frames keeps the values of the frame before).
 
 Cylinder and facet files hold only the nodes their elements use, at their current positions.
-Shape fields missing from the installed plugin are left out (the list is taken from the class).
 Erased bodies (None) are skipped; other shapes (walls) are not written.
 Every file carries field data TimeValue [s] (the series' time: O.time - the recorder's
 time_origin), SceneTime [s] (O.time) and Iteration [-].
@@ -68,7 +67,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from yade import O
-from yade.wrapper import FlexCylinder, FlexFacet, FlexSnapshot, PyRunner, Sphere
+from yade.wrapper import FlexSnapshot, PyRunner, Sphere
 
 from . import parts as P
 from .files import clear_matching, write_atomic
@@ -77,23 +76,18 @@ from .files import clear_matching, write_atomic
 
 GROUPS = ("nodes", "cylinders", "facets", "spheres", "clumps", "boxes", "rigid_facets", "contacts")
 
-_CYLINDER_FIELDS = ("radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar", "wireSlack",
-                    "elasticEnergy", "L0")
-_FACET_FIELDS = ("radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0")
+# cell arrays written for cylinders and facets (FlexSnapshot.elements gives them)
+CYLINDER_FIELDS = ("radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar", "wireSlack",
+                   "elasticEnergy", "L0")
+FACET_FIELDS = ("radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0")
 # fields a broken element no longer carries: written as 0 on it (the others keep their last values)
 _LOAD_FIELDS = ("axialForce", "n1", "n2", "elasticEnergy", "pressure")
 
-
-def _fields_of(cls, names):
-    probe = cls()
-    return tuple(n for n in names if isinstance(getattr(probe, n, None), (int, float)))
-
-
-CYLINDER_FIELDS = _fields_of(FlexCylinder, _CYLINDER_FIELDS)  # cell arrays written for cylinders
-FACET_FIELDS = _fields_of(FlexFacet, _FACET_FIELDS)  # cell arrays written for facets
-
 # VTK cell types (vtkCellType.h)
 _VTK_VERTEX, _VTK_LINE, _VTK_TRIANGLE, _VTK_HEXAHEDRON = 1, 3, 5, 12
+# element groups: (FlexSnapshot.elements' group code, node attributes, cell type, fields)
+_ELEMENT_GROUPS = {"cylinders": (2, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS),
+                   "facets": (3, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS)}
 # Box corners in the order of VTK_HEXAHEDRON: bottom face counter-clockwise, then top face.
 _HEX_CORNERS = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))
 
@@ -168,10 +162,23 @@ class _Snapshot:
         self._reader = FlexSnapshot()
         self.b = _arrays(self._reader.bodies(), _BODY_FIELDS)
         self._contacts = None
+        self._elements = {}
 
     def ids(self, group):
         """Ids of the bodies of a body group, ascending."""
         return np.flatnonzero(self.b["group"] == _GROUP_CODE[group])
+
+    def elements(self, group):
+        """The bodies of an element group ('cylinders', 'facets') in id order: (ids, node ids
+        (one row per element), field values (one column per field of the group))."""
+        if group not in self._elements:
+            code, attrs, _, fields = _ELEMENT_GROUPS[group]
+            raw = self._reader.elements(code)
+            ids = np.frombuffer(raw["id"], dtype=np.int64)
+            nodes = np.frombuffer(raw["nodes"], dtype=np.int64).reshape(-1, len(attrs))
+            vals = np.column_stack([np.frombuffer(raw[f], dtype=np.float64) for f in fields]).reshape(-1, len(fields))
+            self._elements[group] = (ids, nodes, vals)
+        return self._elements[group]
 
     def contacts(self):
         if self._contacts is None:
@@ -194,11 +201,37 @@ class _Snapshot:
         return out
 
 
+class _Drawn:
+    """The elements of one group drawn so far, by id (ascending): node ids, field values and part
+    id at the last frame that held each alive."""
+
+    def __init__(self, nper, nfields):
+        self.ids = np.zeros(0, dtype=np.int64)
+        self.nodes = np.zeros((0, nper), dtype=np.int64)
+        self.vals = np.zeros((0, nfields))
+        self.part = np.zeros(0, dtype=np.int64)
+
+    def update(self, ids, nodes, vals, part):
+        """Rows of a frame's live elements (ids ascending) replace those remembered."""
+        keep = ~np.isin(self.ids, ids)
+        ids = np.concatenate([self.ids[keep], ids])
+        order = np.argsort(ids, kind="stable")
+        self.ids = ids[order]
+        self.nodes = np.concatenate([self.nodes[keep], nodes])[order]
+        self.vals = np.concatenate([self.vals[keep], vals])[order]
+        self.part = np.concatenate([self.part[keep], part])[order]
+
+    def rows(self, ids):
+        """(ids, node ids, field values, part ids) of remembered ids."""
+        k = np.searchsorted(self.ids, ids)
+        return self.ids[k], self.nodes[k], self.vals[k], self.part[k]
+
+
 class _Frame:
     """What the builders of one frame share: the snapshot of the scene, the part id of every body
-    (from parts: body id -> part id, yadeflex.parts), the broken elements to draw (group -> [(id,
-    node ids, {field: value}, part id)]) and the memory of the group's elements drawn ({id: (node
-    ids, {field: value}, part id)}, filled if not None)."""
+    (from parts: body id -> part id, yadeflex.parts), the broken elements to draw (group -> (ids,
+    node ids, field values, part ids), as _Drawn.rows gives) and the memory of the group's
+    elements drawn (a _Drawn, updated if not None)."""
 
     def __init__(self, snap, parts=None, broken=None, memory=None):
         self.snap = snap
@@ -224,31 +257,39 @@ def _particles(vtk, ids, fr):
         ("velocity", vel, 3), ("speed", _norms(vel), 1), ("angularVelocity", b["angVel"][ids], 3), ("blockedDOFs", b["blocked"][ids], 1)])
 
 
-def _elements(vtk, bodies, node_attrs, cell_type, fields, fr, group):
-    """Cylinders or facets: cells over their nodes (only the nodes they use), shape fields as
-    cell data, node id and velocity as point data. The group's broken elements of fr follow the
-    live ones, between their nodes' current positions (skipped if a node is gone), with broken = 1,
-    the load fields 0 and the other fields as last recorded."""
-    index, nodes, conn = {}, [], []
-    live = [(b.id, tuple(getattr(b.shape, a) for a in node_attrs), {f: getattr(b.shape, f) for f in fields}, fr.part(b))
-            for b in bodies]
+def _elements(vtk, ids, fr, group):
+    """Cylinders or facets (ids, ascending): cells over their nodes (only the nodes they use, in
+    the order the cells first use them), shape fields as cell data, node id and velocity as point
+    data. The group's broken elements of fr follow the live ones, between their nodes' current
+    positions (skipped if a node is gone), with broken = 1, the load fields 0 and the other fields
+    as last recorded."""
+    _, attrs, cell_type, fields = _ELEMENT_GROUPS[group]
+    all_ids, all_nodes, all_vals = fr.snap.elements(group)
+    ids = np.asarray(ids, dtype=np.int64)
+    k = np.searchsorted(all_ids, ids)
+    nodes, vals = all_nodes[k], all_vals[k]
+    part = fr.part_ids[ids]
     if fr.memory is not None:
-        fr.memory.update({i: (ns, vals, part) for i, ns, vals, part in live})
+        fr.memory.update(ids, nodes, vals, part)
+    d_ids, d_nodes, d_vals, d_part = fr.broken.get(group, _NO_ROWS[group])
     gone = fr.snap.b["group"] < 0
-    dead = [(i, ns, dict(vals, **{f: 0.0 for f in _LOAD_FIELDS if f in vals}), part) for i, ns, vals, part in fr.broken.get(group, ())
-            if all(0 <= n < len(gone) and not gone[n] for n in ns)]
-    rows = live + dead
-    for _, ns, _, _ in rows:
-        for i in ns:
-            if i not in index:
-                index[i] = len(nodes)
-                nodes.append(i)
-            conn.append(index[i])
-    nodes = np.asarray(nodes, dtype=np.int64)
-    return _grid(vtk, fr.snap.b["pos"][nodes], cell_type, conn, len(node_attrs),
-                 point_data=[("id", nodes, 1), ("velocity", fr.snap.b["vel"][nodes], 3)],
-                 cell_data=[("id", [r[0] for r in rows], 1), ("part", [r[3] for r in rows], 1),
-                            ("broken", [0] * len(live) + [1] * len(dead), 1)] + [(f, [r[2][f] for r in rows], 1) for f in fields])
+    ok = (d_nodes >= 0) & (d_nodes < len(gone))
+    ok[ok] = ~gone[d_nodes[ok]]
+    ok = ok.all(axis=1)
+    d_vals = d_vals[ok].copy()
+    d_vals[:, [c for c, f in enumerate(fields) if f in _LOAD_FIELDS]] = 0.0
+    conn = np.concatenate([nodes, d_nodes[ok]]).reshape(-1)
+    used, first, inverse = np.unique(conn, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")  # the nodes in the order the cells first use them
+    rank = np.empty(len(used), dtype=np.int64)
+    rank[order] = np.arange(len(used))
+    points = used[order]
+    n_dead = int(ok.sum())
+    values = np.concatenate([vals, d_vals])
+    return _grid(vtk, fr.snap.b["pos"][points], cell_type, rank[inverse.reshape(-1)], len(attrs),
+                 point_data=[("id", points, 1), ("velocity", fr.snap.b["vel"][points], 3)],
+                 cell_data=[("id", np.concatenate([ids, d_ids[ok]]), 1), ("part", np.concatenate([part, d_part[ok]]), 1),
+                            ("broken", np.repeat([0, 1], [len(ids), n_dead]), 1)] + [(f, values[:, c], 1) for c, f in enumerate(fields)])
 
 
 def _v3(v):
@@ -316,12 +357,14 @@ def _contacts(vtk, c, fr):
 
 
 _NO_CONTACTS = {k: np.zeros((0, comp) if comp > 1 else 0, dtype=dt) for k, (dt, comp) in _CONTACT_FIELDS.items()}
-_BODY_LISTS = ("cylinders", "facets", "clumps", "boxes", "rigid_facets")  # builders that read the bodies themselves
+_NO_ROWS = {g: (np.zeros(0, dtype=np.int64), np.zeros((0, len(a)), dtype=np.int64), np.zeros((0, len(f))), np.zeros(0, dtype=np.int64))
+            for g, (_, a, _, f) in _ELEMENT_GROUPS.items()}
+_BODY_LISTS = ("clumps", "boxes", "rigid_facets")  # builders that read the bodies themselves
 
 _BUILD = {
     "nodes": lambda vtk, ids, fr: _particles(vtk, ids, fr),
-    "cylinders": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2"), _VTK_LINE, CYLINDER_FIELDS, fr, "cylinders"),
-    "facets": lambda vtk, bs, fr: _elements(vtk, bs, ("node1", "node2", "node3"), _VTK_TRIANGLE, FACET_FIELDS, fr, "facets"),
+    "cylinders": lambda vtk, ids, fr: _elements(vtk, ids, fr, "cylinders"),
+    "facets": lambda vtk, ids, fr: _elements(vtk, ids, fr, "facets"),
     "spheres": lambda vtk, ids, fr: _particles(vtk, ids, fr),
     "clumps": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_HEXAHEDRON, _clump_corners,
                                          lambda bs_: [("mass", [b.state.mass for b in bs_], 1)], fr),
@@ -339,7 +382,7 @@ def _empty(g):
 
 def scene_groups(snap=None):
     """dict group -> what its builder takes, for the non-empty groups of the current scene (in id
-    order): the ids of nodes and spheres, the bodies of the other body groups, and 'contacts' ->
+    order): the ids of nodes, spheres and elements, the bodies of the other body groups, and 'contacts' ->
     FlexSnapshot.contacts' arrays (the contacts of real_contacts(), in its order)."""
     snap = snap or _Snapshot()
     out = {}
@@ -477,7 +520,7 @@ class VtkRecorder(_Periodic):
         self.pvd = os.path.join(folder, prefix + ".pvd")
         self.frames = []  # (scene time [s], iteration, {group: file name}) of the frames written
         self.groups = []  # groups seen so far, in GROUPS order
-        self._memory = {"cylinders": {}, "facets": {}}  # elements drawn so far: id -> (node ids, fields, part)
+        self._memory = {g: _Drawn(len(a), len(f)) for g, (_, a, _, f) in _ELEMENT_GROUPS.items()}  # elements drawn so far
         clear_matching(folder, self.files_pattern(prefix))
         os.makedirs(folder, exist_ok=True)
 
@@ -490,13 +533,13 @@ class VtkRecorder(_Periodic):
         return f"{self.prefix}_{g}_empty.vtu"
 
     def _broken(self):
-        """group -> [(id, node ids, fields, part)] of the remembered elements erased as ruptured."""
-        ruptured = _ruptured_ids()
+        """group -> (ids, node ids, field values, part ids) of the remembered elements erased as ruptured."""
+        ruptured = np.fromiter(_ruptured_ids(), dtype=np.int64)
         out = {}
         for g, mem in self._memory.items():
-            gone = [i for i in mem if i in ruptured and (i >= len(O.bodies) or O.bodies[i] is None)]
+            gone = [i for i in mem.ids[np.isin(mem.ids, ruptured)].tolist() if i >= len(O.bodies) or O.bodies[i] is None]
             if gone:
-                out[g] = [(i,) + mem[i] for i in sorted(gone)]
+                out[g] = mem.rows(np.asarray(gone, dtype=np.int64))
         return out
 
     def __call__(self):

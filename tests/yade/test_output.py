@@ -487,3 +487,30 @@ def test_plots(scene, tmp_path):
     with pytest.raises(ValueError, match="nosuch"):
         yf.plot_timeseries(rec.path, ["nosuch"], str(tmp_path / "x.png"))
     assert not os.path.exists(tmp_path / "x.png")
+
+
+def test_snapshot_elements_are_the_shapes_fields(scene):
+    """FlexSnapshot.elements (the VTK frames' element arrays) gives each element's id, node ids and
+    fields as its shape's attributes, in id order; another group is refused by name."""
+    from yade.wrapper import FlexSnapshot
+    import yadeflex.output as out
+    mat = yf.steel(tensile_strength=400e6)
+    for build, code, kind, attrs, fields, load in (
+            (lambda: S.cantilever(segments=4, length=0.3, radius=0.002, load="axial", force=50.0, material=mat),
+             2, "FlexCylinder", ("node1", "node2"), out.CYLINDER_FIELDS, "axialForce"),
+            (lambda: MS.circular_membrane(rings=3, pressure=500.0), 3, "FlexFacet", ("node1", "node2", "node3"), out.FACET_FIELDS, "n1")):
+        build()
+        for _ in range(30):
+            O.step()
+        raw = FlexSnapshot().elements(code)
+        bodies = [b for b in O.bodies if b is not None and type(b.shape).__name__ == kind]
+        assert bodies
+        assert np.frombuffer(raw["id"], dtype=np.int64).tolist() == [b.id for b in bodies]
+        assert np.frombuffer(raw["nodes"], dtype=np.int64).tolist() == [getattr(b.shape, a) for b in bodies for a in attrs]
+        assert set(raw.keys()) == {"id", "nodes", *fields}
+        for f in fields:
+            assert np.frombuffer(raw[f], dtype=np.float64).tolist() == [getattr(b.shape, f) for b in bodies], f
+        assert np.frombuffer(raw[load], dtype=np.float64).any()  # loaded: the values are not all the defaults
+        assert FlexSnapshot().elements(5 - code)["id"] == b""
+    with pytest.raises(ValueError, match="group must be 2 .FlexCylinder. or 3 .FlexFacet., got 4"):
+        FlexSnapshot().elements(4)
