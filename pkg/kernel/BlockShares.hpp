@@ -39,7 +39,8 @@ public:
 
 	// Thread `self`'s work: f(block) for the blocks of its share (self outside [0, shares): none),
 	// then for blocks taken from the back of the others, until no block is left or stop() is
-	// true (checked before each block). Any number of threads may call it at once.
+	// true (checked before each block). Any number of threads may call it at once. f must not
+	// throw: a block taken counts as run (a caller inside an OpenMP region catches in f).
 	template <class F, class Stop> void run(int self, F&& f, Stop&& stop)
 	{
 		long c = 0;

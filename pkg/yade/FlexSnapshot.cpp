@@ -63,11 +63,11 @@ namespace {
 
 boost::python::dict FlexSnapshot::bodies() const
 {
-	const Scene*        scene = Omega::instance().getScene().get();
-	const auto&         body  = scene->bodies->body;
-	const size_t        n     = body.size();
-	std::vector<long>   group(n, kErased), clumped(n, 0), blocked(n, 0);
-	std::vector<double> pos, vel, angVel, mass(n, 0), radius(n, std::numeric_limits<double>::quiet_NaN());
+	const Scene*            scene = Omega::instance().getScene().get();
+	const auto&             body  = scene->bodies->body;
+	const size_t            n     = body.size();
+	std::vector<long>       group(n, kErased), clumped(n, 0), blocked(n, 0);
+	std::vector<double>     pos, vel, angVel, mass(n, 0), radius(n, std::numeric_limits<double>::quiet_NaN());
 	pos.reserve(3 * n);
 	vel.reserve(3 * n);
 	angVel.reserve(3 * n);
@@ -88,8 +88,7 @@ boost::python::dict FlexSnapshot::bodies() const
 		push3(angVel, st.angVel);
 		mass[id]    = st.mass;
 		blocked[id] = (long)std::bitset<8 * sizeof(unsigned)>(st.blockedDOFs & State::DOF_ALL).count();
-		if (group[id] == kNodes)
-			radius[id] = static_cast<const FlexNode*>(sh)->radius;
+		if (group[id] == kNodes) radius[id] = static_cast<const FlexNode*>(sh)->radius;
 		else if (group[id] == kSpheres)
 			radius[id] = static_cast<const Sphere*>(sh)->radius;
 	}
@@ -103,14 +102,14 @@ boost::python::dict FlexSnapshot::elements(long group) const
 {
 	if (group != kCylinders && group != kFacets)
 		throw std::invalid_argument("FlexSnapshot.elements: group must be 2 (FlexCylinder) or 3 (FlexFacet), got " + std::to_string(group));
-	const bool                     cyl   = group == kCylinders;
-	const Scene*                   scene = Omega::instance().getScene().get();
-	const auto&                    body  = scene->bodies->body;
-	std::vector<long>              ids, nodes;
-	const std::vector<const char*> names = cyl ? std::vector<const char*> { "radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar",
-		"wireSlack", "elasticEnergy", "L0" }
-	                                           : std::vector<const char*> { "radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0" };
-	std::vector<std::vector<double>> fields(names.size());
+	static const std::vector<const char*> cylinderFields { "radius", "axialForce", "strain", "plasticStrain", "maxStrain", "hardeningVar", "wireSlack",
+		"elasticEnergy", "L0" };
+	static const std::vector<const char*> facetFields { "radius", "n1", "n2", "e1", "e2", "elasticEnergy", "pressure", "area0" };
+	const bool                            cyl   = group == kCylinders;
+	const std::vector<const char*>&       names = cyl ? cylinderFields : facetFields;
+	const auto&                           body  = Omega::instance().getScene()->bodies->body;
+	std::vector<long>                     ids, nodes;
+	std::vector<std::vector<double>>      fields(names.size());
 	for (size_t id = 0; id < body.size(); ++id) {
 		const Body* b = body[id].get();
 		if (!b || !b->state || groupOf(b->shape.get()) != group) continue;
@@ -118,16 +117,16 @@ boost::python::dict FlexSnapshot::elements(long group) const
 		if (cyl) {
 			const FlexCylinder& c = static_cast<const FlexCylinder&>(*b->shape);
 			nodes.insert(nodes.end(), { (long)c.node1, (long)c.node2 });
-			for (const auto& [k, v] : { std::make_pair(0, c.radius), std::make_pair(1, c.axialForce), std::make_pair(2, c.strain),
-			             std::make_pair(3, c.plasticStrain), std::make_pair(4, c.maxStrain), std::make_pair(5, c.hardeningVar),
-			             std::make_pair(6, c.wireSlack), std::make_pair(7, c.elasticEnergy), std::make_pair(8, c.L0) })
-				fields[k].push_back(v);
+			const double v[]
+			        = { c.radius, c.axialForce, c.strain, c.plasticStrain, c.maxStrain, c.hardeningVar, c.wireSlack, c.elasticEnergy, c.L0 };
+			for (size_t k = 0; k < fields.size(); ++k)
+				fields[k].push_back(v[k]);
 		} else {
 			const FlexFacet& f = static_cast<const FlexFacet&>(*b->shape);
 			nodes.insert(nodes.end(), { (long)f.node1, (long)f.node2, (long)f.node3 });
-			for (const auto& [k, v] : { std::make_pair(0, f.radius), std::make_pair(1, f.n1), std::make_pair(2, f.n2), std::make_pair(3, f.e1),
-			             std::make_pair(4, f.e2), std::make_pair(5, f.elasticEnergy), std::make_pair(6, f.pressure), std::make_pair(7, f.area0) })
-				fields[k].push_back(v);
+			const double v[] = { f.radius, f.n1, f.n2, f.e1, f.e2, f.elasticEnergy, f.pressure, f.area0 };
+			for (size_t k = 0; k < fields.size(); ++k)
+				fields[k].push_back(v[k]);
 		}
 	}
 	boost::python::dict d;
@@ -146,8 +145,7 @@ boost::python::dict FlexSnapshot::contacts() const
 	// the centre of one side without an axis point: a sphere's centre, else the contact point
 	auto centre = [&](Body::id_t id, const GenericSpheresContact* g, std::vector<double>& out) {
 		const Body* b = (id >= 0 && (size_t)id < bodies.size()) ? bodies[id].get() : nullptr;
-		if (b && b->state && dynamic_cast<const Sphere*>(b->shape.get()))
-			push3(out, b->state->pos);
+		if (b && b->state && dynamic_cast<const Sphere*>(b->shape.get())) push3(out, b->state->pos);
 		else if (g)
 			push3(out, g->contactPoint);
 		else
@@ -178,8 +176,7 @@ boost::python::dict FlexSnapshot::contacts() const
 		}
 		push3(fn, ph->normalForce);
 		push3(fs, ph->shearForce);
-		if (fg)
-			depth.push_back(fg->penetrationDepth);
+		if (fg) depth.push_back(fg->penetrationDepth);
 		else if (const ScGeom* sg = dynamic_cast<const ScGeom*>(I->geom.get()))
 			depth.push_back(sg->penetrationDepth);
 		else
@@ -188,8 +185,13 @@ boost::python::dict FlexSnapshot::contacts() const
 	boost::python::dict d;
 	put<long>(d, { { "id1", &id1 }, { "id2", &id2 } });
 	put<double>(d,
-	        { { "end1", &end1 }, { "end2", &end2 }, { "contactPoint", &point }, { "normal", &normal }, { "normalForce", &fn }, { "shearForce", &fs },
-	                { "penetrationDepth", &depth } });
+	            { { "end1", &end1 },
+	              { "end2", &end2 },
+	              { "contactPoint", &point },
+	              { "normal", &normal },
+	              { "normalForce", &fn },
+	              { "shearForce", &fs },
+	              { "penetrationDepth", &depth } });
 	return d;
 }
 

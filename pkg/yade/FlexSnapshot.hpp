@@ -1,9 +1,9 @@
-// yade-flex adapter: FlexSnapshot, the scene's bodies and contacts as flat arrays for output
-// (GPL-2.0-or-later).
+// yade-flex adapter: FlexSnapshot, the scene's bodies, elements and contacts as flat arrays for
+// output (GPL-2.0-or-later).
 //
-// Output (yadeflex.output's VTK frames) needs, at every frame, a few values of every body and
-// every contact. Read attribute by attribute from Python that is one call per value; here it is
-// one pass over the bodies and one over the interactions. Each method returns a dict
+// Output (yadeflex.output's VTK frames) needs, at every frame, a few values of every body, every
+// element and every contact. Read attribute by attribute from Python that is one call per value;
+// here it is one pass over the bodies (per method) and one over the interactions. Each method returns a dict
 // {name: bytes}, every value the raw native-endian array of one field (float64, or int64 for
 // ids, codes and counts), row by row; numpy.frombuffer reads it without a copy.
 #pragma once

@@ -155,8 +155,8 @@ _CONTACT_FIELDS = dict(id1=(np.int64, 1), id2=(np.int64, 1), end1=(np.float64, 3
 
 
 class _Snapshot:
-    """The scene's bodies (and, on first use, its contacts) as numpy arrays in id order, read in
-    one pass each by FlexSnapshot."""
+    """The scene's bodies (and, on first use, its contacts and each element group) as numpy arrays
+    in id order, read in one pass each by FlexSnapshot."""
 
     def __init__(self):
         self._reader = FlexSnapshot()
@@ -267,6 +267,9 @@ def _elements(vtk, ids, fr, group):
     all_ids, all_nodes, all_vals = fr.snap.elements(group)
     ids = np.asarray(ids, dtype=np.int64)
     k = np.searchsorted(all_ids, ids)
+    if len(ids) and (k.max() >= len(all_ids) or not np.array_equal(all_ids[k], ids)):
+        raise ValueError(f"{group}: ids that are not bodies of the group in the scene: "
+                         f"{sorted(set(ids.tolist()) - set(all_ids.tolist()))[:10]}")
     nodes, vals = all_nodes[k], all_vals[k]
     part = fr.part_ids[ids]
     if fr.memory is not None:

@@ -138,26 +138,29 @@ TEST(BlockShares, EveryBlockRunsOnceOnManyThreads)
 	}
 }
 
-TEST(BlockShares, TheShareOfAThreadThatStartsLateIsDoneByTheOther)
+TEST(BlockShares, TheLastBlockOfAShareGoesToOneThreadOnly)
 {
-	// thread 1 starts only after thread 0 has run everything: thread 0 did all 20 blocks
+	// two threads racing for the last blocks of tiny shares, with no pause between the blocks: the
+	// owner from the front and the other from the back meet on the same block every few rounds
+	for (const std::vector<long>& starts : { std::vector<long> { 0, 1, 2 }, std::vector<long> { 0, 2, 4 }, std::vector<long> { 0, 3, 3 } }) {
+		for (int round = 0; round < 3000; ++round) {
+			const auto counts = runCounts(
+			        starts, 2, [](int) {}, [](long) {});
+			for (size_t c = 0; c < counts.size(); ++c)
+				ASSERT_EQ(counts[c], 1) << "round " << round << ", block " << c;
+		}
+	}
+}
+
+TEST(BlockShares, StopIsAskedWhileTakingFromOthers)
+{
 	flex::BlockShares shares;
-	shares.reset({ 0, 10, 20 });
-	std::vector<int> by(20, -1);
-	std::atomic<int> done { 0 };
-	std::thread      t0([&] {
-                shares.run(
-		             0, [&](long c) { by[c] = 0, ++done; }, never);
-        });
-	t0.join();
-	std::thread t1([&] {
-		shares.run(
-		        1, [&](long c) { by[c] = 1, ++done; }, never);
-	});
-	t1.join();
-	EXPECT_EQ(done.load(), 20);
-	for (int c = 0; c < 20; ++c)
-		EXPECT_EQ(by[c], 0) << c;
+	shares.reset({ 0, 2, 10 });
+	std::vector<long> order;
+	shares.run(
+	        0, [&](long c) { order.push_back(c); }, [&] { return order.size() >= 4; });
+	EXPECT_EQ(order, (std::vector<long> { 0, 1, 9, 8 }));
+	EXPECT_EQ(shares.remaining(1), 6);
 }
 
 TEST(BlockShares, ABusyThreadsShareIsTakenByTheOther)

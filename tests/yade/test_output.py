@@ -514,3 +514,28 @@ def test_snapshot_elements_are_the_shapes_fields(scene):
         assert FlexSnapshot().elements(5 - code)["id"] == b""
     with pytest.raises(ValueError, match="group must be 2 .FlexCylinder. or 3 .FlexFacet., got 4"):
         FlexSnapshot().elements(4)
+
+
+def test_vtk_group_of_broken_elements_only(scene, tmp_path):
+    """A cantilever of one element that ruptures: the later frames still hold it, alone, broken = 1
+    with no force, between its nodes; the frame before holds it alive."""
+    mat = yf.steel(tensile_strength=400e6)
+    s = S.cantilever(segments=1, length=0.1, radius=0.002, load="axial", force=0.0, material=mat)
+    O.forces.setPermF(s["tip"], Vector3(1.2 * 400e6 * math.pi * 0.002 ** 2, 0, 0))
+    el = next(e for e in O.engines if type(e).__name__ == "FlexElementEngine")
+    rec = yf.VtkRecorder(str(tmp_path))
+    first = rec()
+    for _ in range(20000):
+        O.step()
+        if el.nRuptured:
+            break
+    assert el.nRuptured == 1 and O.bodies[s["cylinders"][0]] is None
+    O.step()
+    last = rec()
+    g0, g = _read(first["cylinders"]), _read(last["cylinders"])
+    assert list(_cd(g0, "broken")) == [0] and list(_cd(g0, "id")) == s["cylinders"]
+    assert list(_cd(g, "broken")) == [1] and list(_cd(g, "id")) == s["cylinders"]
+    assert _cd(g, "axialForce")[0] == 0.0 and _cd(g, "elasticEnergy")[0] == 0.0 and _cd(g, "radius")[0] == 0.002
+    assert _cd(g, "L0")[0] == _cd(g0, "L0")[0]
+    assert list(_pd(g, "id")) == s["nodes"]
+    assert np.array_equal(_points(g)[1], _vec(O.bodies[s["nodes"][1]].state.pos))
