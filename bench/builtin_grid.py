@@ -55,6 +55,8 @@ from yade.wrapper import (Bo1_GridConnection_Aabb, Bo1_Sphere_Aabb, CohFrictMat,
 from yade.gridpfacet import gridConnection, gridNode
 from yade.minieigenHP import Vector3
 
+from stepping import run_steps as _run_steps
+
 G_ACC = 9.81
 HUGE_COHESION = 1e30  # Pa; normalAdhesion = normalCohesion * r^2 -> bonds never break
 
@@ -185,16 +187,9 @@ def counts():
 	}
 
 
-def run_steps(n, poll=2e-4):
-	"""O.run(n) and wait for it with a fine poll.
-
-	O.run(n, True) waits through pyOmega::wait(), which polls O.running every 40 ms: each call
-	can overshoot by up to 40 ms, which swamps short timed runs.  This helper polls every `poll`
-	seconds instead (the simulation itself runs in YADE's background thread exactly as with
-	O.run(n, True))."""
-	O.run(n)
-	while O.running:
-		time.sleep(poll)
+def run_steps(n):
+	"""stepping.run_steps with a 0.2 ms poll."""
+	_run_steps(n, poll=2e-4)
 
 
 def node_mass_total():

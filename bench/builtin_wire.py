@@ -101,6 +101,8 @@ from yade.wrapper import (Bo1_Sphere_Aabb, ForceResetter, Ig2_Sphere_Sphere_ScGe
                           Ip2_WireMat_WireMat_WirePhys, Law2_ScGeom_WirePhys_WirePM, NewtonIntegrator, WireMat, WirePhys)
 from yade.minieigenHP import Vector2, Vector3
 
+from stepping import run_steps  # noqa: F401  (bench_wire steps by builtin_wire.run_steps)
+
 CURVE_YADE_EXAMPLE = [(0.0019230769, 2.5e8), (0.0192, 3.2195e8), (0.05, 3.8292e8), (0.15, 5.1219e8), (0.25, 5.5854e8), (0.3, 5.6585e8),
                       (0.35, 5.6585e8)]
 CURVE_HIGH_TENSILE = [(0.005, 1.0e9), (0.01, 1.5e9), (0.03, 1.77e9), (0.05, 1.8e9)]
@@ -355,15 +357,6 @@ def pull(velocity=0.05, max_elongation=None, record_every=100, stop_drop=0.2, ma
 	        'steps': steps,
 	        'wall_s': time.perf_counter() - t0
 	}
-
-
-def run_steps(n):
-	"""n steps as scripts run them, by O.run(n) (one run thread, no Python between the steps),
-	waited for by polling every 0.5 ms (O.wait() polls every 40 ms)."""
-	O.run(n)
-	while O.running:
-		time.sleep(0.0005)
-	O.wait()  # (raises what stopped the run, if anything did)
 
 
 def time_per_link_step(n_steps=500, reps=5, warmup=50, velocity=0.05):

@@ -206,12 +206,17 @@ def parent(a):
             rs = [r for r in runs if r["threads"] == t and r["label"] == label]
             total = statistics.median(r["us_per_step"] for r in rs)
             dt = statistics.median(r["dt"] for r in rs)
+            stepping = "/".join(sorted({r.get("stepping", "O.step") for r in rs}))
             rows.append(dict(label=label, threads=t, engine="step (wall)", us_per_step=round(total, 1), share=1.0, reps=len(rs), dt=dt,
-                             wall_s_per_simulated_s=round(total * 1e-6 / dt, 1)))
+                             wall_s_per_simulated_s=round(total * 1e-6 / dt, 1), stepping=stepping))
             for name in rs[0]["engines"]:
                 us = statistics.median(r["engines"][name] for r in rs)
                 rows.append(dict(label=label, threads=t, engine=name, us_per_step=round(us, 1), share=round(us / total, 4), reps=len(rs), dt=dt,
-                                 wall_s_per_simulated_s=round(us * 1e-6 / dt, 1)))
+                                 wall_s_per_simulated_s=round(us * 1e-6 / dt, 1), stepping=stepping))
+    methods = {r["label"]: r["stepping"] for r in rows}
+    if len(set(methods.values())) > 1:
+        print("NOTE: the builds were stepped differently (" + ", ".join(f"{k}: {v}" for k, v in methods.items())
+              + "): an O.step() loop checks the whole scene at every step, so their ratio includes that difference")
     if a.baseline:
         for t in a.threads:
             pairs = [(b["us_per_step"], c["us_per_step"]) for b in runs for c in runs if b["threads"] == c["threads"] == t
