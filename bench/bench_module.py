@@ -17,7 +17,8 @@
 #      again with damping 0 from the same settled state;
 #   3. timing: the state of each model 5 ms after first contact is kept (O.saveTmp); windows of
 #      --window steps are timed alternately, ours and built-in, --reps times each (O.loadTmp, a
-#      warm-up, then an O.step() loop; O.timingEnabled off); the median is reported.
+#      warm-up, then yadeflex.scene.step_until(inf, window): the steps in one C++ loop, no Python
+#      between them, as the main job steps; O.timingEnabled off); the median is reported.
 # Writes bench/results/module_compare[_small][_jN].csv (one row per model; _jN with N > 1 OpenMP threads), ..._timeseries.csv, a PNG of
 # force-time and penetration-time, and prints a table.
 import argparse
@@ -40,6 +41,7 @@ from yade.minieigenHP import Vector3  # noqa: E402
 import yadeflex as yf  # noqa: E402
 from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, touches, G  # noqa: E402
 import builtin_module as bm  # noqa: E402
+from yadeflex.scene import step_until  # noqa: E402
 
 
 def parse():
@@ -267,7 +269,8 @@ def shares(res, builtin):
 
 
 def time_windows(labels, reps, window, warmup):
-    """Median us/step of each saved state, timed alternately (O.loadTmp, warm-up, O.step() loop)."""
+    """Median us/step of each saved state, timed alternately (O.loadTmp, warm-up, then the window
+    by yadeflex.scene.step_until: the steps in one C++ loop in this thread, as the main job steps)."""
     out = {lb: [] for lb in labels}
     dts = {}
     O.timingEnabled = False
@@ -277,8 +280,7 @@ def time_windows(labels, reps, window, warmup):
             for _ in range(warmup):
                 O.step()
             t0 = time.perf_counter()
-            for _ in range(window):
-                O.step()
+            step_until(math.inf, window)
             out[lb].append(1e6 * (time.perf_counter() - t0) / window)
             dts[lb] = O.dt
     res = {lb: (statistics.median(v), v, dts[lb]) for lb, v in out.items()}
@@ -286,7 +288,8 @@ def time_windows(labels, reps, window, warmup):
 
 
 def breakdown(labels, window, warmup):
-    """One more window of each saved state with O.timingEnabled: us/step per engine, and the
+    """One more window of each saved state with O.timingEnabled (run as the timed windows are):
+    us/step per engine, and the
     interactions (real / all, all = with the collider's potential pairs)."""
     out = {}
     for lb in labels:
@@ -296,8 +299,7 @@ def breakdown(labels, window, warmup):
         for e in O.engines:
             e.execTime = 0
         O.timingEnabled = True
-        for _ in range(window):
-            O.step()
+        step_until(math.inf, window)
         O.timingEnabled = False
         out[lb] = dict(engines={(e.label or type(e).__name__): round(e.execTime * 1e-3 / window, 1) for e in O.engines},
                        interactions_real=O.interactions.countReal(), interactions_all=len(O.interactions.all(False)), bodies=len(O.bodies))
