@@ -18,19 +18,18 @@ validation/calibration). Cases:
     gravel only: the sand's grains would number about seven times as many;
 the oedometer and repose geometries in units of the preset's largest grain, so that both presets hold
 about as many grains."""
-import argparse
-import concurrent.futures
 import csv
 import json
 import math
 import os
 import re
-import subprocess
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(next((a for a in sys.argv if a.endswith("fill_calibration.py")), __file__)))
-REPO = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import case_processes  # noqa: E402
+
 G = 9.81
 MARK = ("<!-- table:fill_calibration -->", "<!-- /table:fill_calibration -->")
 GRAIN_MAX = {"gravel": 0.063, "sand": 0.030}  # yadeflex.module.FILLS (checked when a case runs)
@@ -106,23 +105,8 @@ def run_case(name, out):
     print(f"{name}: done in {time.time() - t:.0f} s", flush=True)
 
 
-def _spawn(name, out):
-    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.pathsep.join([os.path.join(REPO, "py")] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
-    log = os.path.join(out, "cases", name + ".log")
-    with open(log, "w") as f:
-        r = subprocess.run(["yade-double", "-n", "-j1", "-x", os.path.join(HERE, "fill_calibration.py"), out, "--case", name], stdin=subprocess.DEVNULL, stdout=f,
-                           stderr=subprocess.STDOUT, env=env)
-    return name, r.returncode, log
-
-
 def load(out):
-    res = {}
-    for name in CASES:
-        p = os.path.join(out, "cases", name + ".json")
-        if os.path.isfile(p):
-            with open(p) as f:
-                res[name] = json.load(f)
-    return res
+    return case_processes.load(out, CASES)
 
 
 def _stats(xs):
@@ -327,36 +311,10 @@ def _plots(out, res, s):
 
 
 def main():
-    me = next((k for k, a in enumerate(sys.argv) if a.endswith("fill_calibration.py")), 0)
-    ap = argparse.ArgumentParser(prog="validation/fill_calibration.py", description=__doc__.split("\n\n")[0])
-    ap.add_argument("out", help="folder of the runs (cases/) and of the report")
-    ap.add_argument("--to", default=None, help="also write the report (README table, summary.json, results.csv, calibration.png) into this folder")
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--cases", default=None, help=f"comma-separated subset of {', '.join(CASES)}")
-    ap.add_argument("--case", default=None, help=argparse.SUPPRESS)
-    ap.add_argument("--report-only", action="store_true", help="rewrite the report from OUT/cases without running anything")
-    a = ap.parse_args(sys.argv[me + 1:])
-    if a.case:
-        run_case(a.case, a.out)
+    s = case_processes.main("fill_calibration.py", __doc__.split("\n\n")[0], CASES, run_case, write,
+                            "also write the report (README table, summary.json, results.csv, calibration.png) into this folder")
+    if s is None:
         return
-    os.makedirs(os.path.join(a.out, "cases"), exist_ok=True)
-    names = a.cases.split(",") if a.cases else list(CASES)
-    bad = [n for n in names if n not in CASES]
-    if bad:
-        ap.error(f"unknown case(s) {', '.join(bad)}; choose from {', '.join(CASES)}")
-    if not a.report_only:
-        t = time.time()
-        failed = []
-        with concurrent.futures.ThreadPoolExecutor(max(1, a.workers)) as pool:
-            for name, rc, log in pool.map(lambda n: _spawn(n, a.out), names):
-                print(f"[{time.time() - t:6.0f} s] {name}: {'done' if rc == 0 else f'FAILED (exit {rc}), see {log}'}", flush=True)
-                if rc:
-                    failed.append(name)
-        print(f"{len(names) - len(failed)} of {len(names)} cases in {time.time() - t:.0f} s", flush=True)
-    res = load(a.out)
-    s = write(a.out, res)
-    if a.to:
-        write(a.to, res)
     for fill in REFERENCES:
         for q, v in s[fill]["verdicts"].items():
             print(f"{fill} {q}: {v['measured']:.4g} against {v['band'][0]:.4g}-{v['band'][1]:.4g}: {v['verdict']}")

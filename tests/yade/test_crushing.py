@@ -1,0 +1,110 @@
+"""The grain-crushing screen (yadeflex.crushing): the point-load failure load against its
+definition (ISRM 1985), the per-grain peak forces against hand-made contact lists, and the scene's
+contact forces against a column of spheres at rest (each contact carries the weight above it)."""
+import math
+
+import numpy as np
+import pytest
+from yade import O
+
+import yadeflex as yf
+import yadeflex.scenes as S
+from yadeflex import crushing as K
+
+
+def test_failure_load_is_the_point_load_index_times_the_size_squared_with_isrm_size_correction():
+    # at the reference size 50 mm the correction is 1: P = Is50 D^2
+    assert K.failure_load(0.05, 4e6) == pytest.approx(4e6 * 0.05 ** 2, rel=1e-15)
+    # P ~ D^(2 - 0.45): twice the size, 2^1.55 the load
+    assert K.failure_load(0.1, 4e6) / K.failure_load(0.05, 4e6) == pytest.approx(2 ** 1.55, rel=1e-14)
+    # Is = P / D^2 and Is50 = (D / 50 mm)^0.45 Is, by hand for D = 32 mm
+    d = 0.032
+    assert (0.032 / 0.05) ** 0.45 * K.failure_load(d, 1.5e6) / d ** 2 == pytest.approx(1.5e6, rel=1e-14)
+    np.testing.assert_allclose(K.failure_load([0.05, 0.1], 1e6), [2.5e3, 2.5e3 * 2 ** 1.55], rtol=1e-14)
+
+
+@pytest.mark.parametrize("d, is50", [(0.0, 1e6), (-0.01, 1e6), (math.nan, 1e6), (0.05, 0.0), (0.05, -1e6), (0.05, math.inf)])
+def test_failure_load_refuses_sizes_and_strengths_that_are_not_positive_numbers(d, is50):
+    with pytest.raises(ValueError, match="diameter|is50"):
+        K.failure_load(d, is50)
+
+
+def test_peak_grain_forces_keeps_each_grains_largest_contact_force_and_when_it_broke():
+    # grains 5, 7, 9 of 50 mm: failure loads 2.5 kN at 1 MPa and 10 kN at 4 MPa
+    s = K.PeakGrainForces([5, 7, 9], [0.05] * 3, [1e6, 4e6])
+    # contacts: 5-7, 7-100 (100: the boulder, not a grain), 0-9 (0: not a grain), 1-2 (no grain)
+    s.update([5, 7, 0, 1], [7, 100, 9, 2], [1e3, 3e3, 2e3, 9e4], 0.01)
+    np.testing.assert_array_equal(s.peak, [1e3, 3e3, 2e3])
+    np.testing.assert_array_equal(s.broken(0), [False, True, False])
+    s.update([9, 5], [5, 7], [-12e3, 500.0], 0.03)  # (a negative sign is a direction: the magnitude counts)
+    np.testing.assert_array_equal(s.peak, [12e3, 3e3, 12e3])
+    np.testing.assert_array_equal(s.first[0], [0.03, 0.01, 0.03])  # each at its first reaching, not again
+    np.testing.assert_array_equal(s.first[1], [0.03, np.nan, 0.03])
+    assert (s.count_until(0, 0.02), s.count_until(0, 0.03), s.count_until(1, 0.02)) == (1, 3, 0)
+    s.update([], [], [], 0.05)  # no contacts: nothing changes
+    np.testing.assert_array_equal(s.peak, [12e3, 3e3, 12e3])
+
+
+def test_peak_grain_forces_refuses_bad_input():
+    with pytest.raises(ValueError, match="grains and diameters"):
+        K.PeakGrainForces([1, 2], [0.05], [1e6])
+    with pytest.raises(ValueError, match="distinct"):
+        K.PeakGrainForces([1, 1], [0.05, 0.05], [1e6])
+    with pytest.raises(ValueError, match="diameter"):
+        K.PeakGrainForces([1], [0.0], [1e6])
+    with pytest.raises(ValueError, match="strength"):
+        K.PeakGrainForces([1], [0.05], [0.0])
+    s = K.PeakGrainForces([1], [0.05], [1e6])
+    with pytest.raises(ValueError, match="finite"):
+        s.update([1], [2], [math.nan], 0.0)
+    with pytest.raises(ValueError, match="2 ids for 1 forces"):
+        s.update([1, 2], [2, 3], [1.0], 0.0)
+
+
+def test_scene_contacts_of_a_column_at_rest_carry_the_weight_above_them(scene):
+    """Three free spheres stacked on a fixed one, at rest: the contact under the k-th sphere from
+    the top carries k weights, so the grains' largest contact forces are 3, 2 and 1 weights."""
+    R, rho, g = 0.02, 2500.0, 9.81
+    ids = [S.sphere((0, 0, 2 * R * k), R, density=rho, young=1e8) for k in range(4)]
+    O.bodies[ids[0]].state.blockedDOFs = "xyzXYZ"
+    for i in ids[1:]:
+        O.bodies[i].state.blockedDOFs = "xyXYZ"  # a column that cannot buckle
+    O.engines = yf.engines(gravity=(0, 0, -g), damping=0.8)
+    yf.step_until(math.inf, 20000)
+    assert max(abs(O.bodies[i].state.vel[2]) for i in ids) < 1e-9
+    w = rho * 4 / 3 * math.pi * R ** 3 * g
+    id1, id2, fn = K.scene_contacts()
+    assert len(fn) == 3
+    s = K.PeakGrainForces(ids[1:], [2 * R] * 3, [1e6])
+    s.update(id1, id2, fn, 0.0)
+    np.testing.assert_allclose(s.peak, [3 * w, 2 * w, w], rtol=1e-9)
+
+
+def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table(tmp_path):
+    """validation/grain_crushing.py's report from hand-made cases: the counts per strength, those
+    reached in the second half of the penetration, and the table written between the README's
+    markers."""
+    import json
+    import os
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "validation"))
+    import grain_crushing as G
+    os.makedirs(tmp_path / "cases")
+    series = [dict(t=1e-3 * k, penetration=0.01 * k, force=1e4 * k, grain_force_max=100.0 * k, broken=[k, 0, 0]) for k in range(1, 11)]
+    broken = [dict(is50=s, count=n, under_boulder=n, load_ratio_max=r, first_penetration=p[0] if p else None,
+                   depth_below_boulder=[0.01] * n, penetrations=p)
+              for s, n, r, p in ((1.5e6, 3, 2.0, [0.02, 0.05, 0.09]), (4e6, 1, 1.1, [0.06]), (10e6, 0, 0.45, []))]
+    case = dict(name="H2", mass=800.0, height=2.0, seed=1, grains=100, deepest=dict(penetration=0.1, force=9e4), stopped=True,
+                peak_force=1e5, grain_force_max=1e3, grain_force_p99=800.0, broken=broken, series=series)
+    with open(tmp_path / "cases" / "H2.json", "w") as f:
+        json.dump(case, f)
+    (tmp_path / "README.md").write_text(f"before\n{G.MARK[0]}\nold\n{G.MARK[1]}\nafter\n")
+    rows = G.write(str(tmp_path), G.load(str(tmp_path)))
+    r = rows[0]
+    # second half: reached at 0.05 m of penetration or deeper, of 0.1 m
+    assert (r["broken_1.5MPa"], r["broken_second_half_1.5MPa"], r["broken_4MPa"], r["broken_second_half_4MPa"]) == (3, 2, 1, 1)
+    assert (r["first_break_penetration_mm_1.5MPa"], r["first_break_penetration_mm_10MPa"]) == (pytest.approx(20.0), None)
+    text = (tmp_path / "README.md").read_text()
+    assert text.startswith("before\n") and text.endswith("after\n") and "old" not in text
+    assert "| H2 | 800 | 2 | 1 | 100 | 100 | 1.0 (0.8) | 3 (3, 2) | 1 (1, 1) | 0 (0, 0) | 20 | 60 | - | 0.45 |" in text
+    assert (tmp_path / "summary.csv").is_file() and (tmp_path / "crushing.png").stat().st_size > 0
