@@ -13,7 +13,10 @@ and writes OUT/cases/NAME.json. Then this script writes OUT/summary.csv, OUT/cru
 table between the markers of OUT/README.md (--to DIR: the same files in DIR too).
 
 Strengths screened: Is(50) = 1.5, 4 and 10 MPa, the bounds of Selby's moderately strong and
-strong rock (yadeflex.crushing)."""
+strong rock (yadeflex.crushing). The same ten runs again with grains that crush (the model of
+yadeflex.engines' crushing_is50: a contact yields at the smaller grain's failure load) at 4 and
+1.5 MPa give the exponents of the peak force with crushing (OUT/model.csv, OUT/crushing_model.png
+and the second table)."""
 import csv
 import json
 import math
@@ -29,13 +32,17 @@ import case_processes  # noqa: E402
 
 G = 9.81
 MARK = ("<!-- table:grain_crushing -->", "<!-- /table:grain_crushing -->")
+MARK_MODEL = ("<!-- table:grain_crushing_model -->", "<!-- /table:grain_crushing_model -->")
 STRENGTHS = (1.5e6, 4e6, 10e6)  # [Pa] Is(50)
 SAMPLE_STEPS = 10  # steps between two readings of the contacts (the time step is about 9 us)
 MAX_TIME = 0.3  # [s] after the first contact: the longest a case runs (then "stopped" is False: the boulder still moved down)
-# (mass [kg], drop height [m], the fill's seed): each on the main job's fill and on a second fill of
-# the same preset (seed 2: the scatter of every figure)
-CASES = {f"{k}{'' if seed == 1 else f'_s{seed}'}": (m, h, seed) for seed in (1, 2)
-         for k, (m, h) in dict(H1=(800.0, 1.0), H2=(800.0, 2.0), H4=(800.0, 4.0), m400=(400.0, 2.0), m1600=(1600.0, 2.0)).items()}
+CRUSHING = (4e6, 1.5e6)  # [Pa] Is(50) of the crushing model's runs (ModuleParams.grain_crushing_is50)
+RUNS = dict(H1=(800.0, 1.0), H2=(800.0, 2.0), H4=(800.0, 4.0), m400=(400.0, 2.0), m1600=(1600.0, 2.0))  # (mass [kg], drop height [m])
+# (mass, drop height, the fill's seed, Is(50) of the crushing model, 0: none): each run on the main
+# job's fill and on a second fill of the same preset (seed 2: the scatter of every figure), with
+# elastic grains (the screen) and with grains that crush
+CASES = {f"{k}{'' if seed == 1 else f'_s{seed}'}{'' if not c else f'_c{c / 1e6:g}'}": (m, h, seed, c)
+         for c in (0.0,) + CRUSHING for seed in (1, 2) for k, (m, h) in RUNS.items()}
 
 
 def run_case(name, out):
@@ -45,12 +52,15 @@ def run_case(name, out):
     from yadeflex.crushing import PeakGrainForces, scene_contacts
     from yadeflex.module import ModuleParams, fill_top, impact_start
     from yadeflex.scene import step_until
-    mass, height, seed = CASES[name]
+    mass, height, seed, crush = CASES[name]
     base = ModuleParams()
     # the same cube as the main job's (its size kept, the density scaled with the mass)
-    p = ModuleParams(boulder_mass=mass, drop_height=height, boulder_density=base.boulder_density * mass / base.boulder_mass, seed=seed)
+    p = ModuleParams(boulder_mass=mass, drop_height=height, boulder_density=base.boulder_density * mass / base.boulder_mass, seed=seed,
+                     grain_crushing_is50=crush)
     t_wall = time.time()
     ids, bid, _ = impact_start(p)
+    O.trackEnergy = True  # (from the first contact: the crushing model's dissipation)
+    O.energy.clear()
     grains = list(ids["grains"])
     d = [2 * O.bodies[g].shape.radius for g in grains]
     screen = PeakGrainForces(grains, d, STRENGTHS)
@@ -81,7 +91,8 @@ def run_case(name, out):
                            first_penetration=float(np.nanmin(screen.first[k])) if m.any() else None,
                            depth_below_boulder=[float(x) for x in (bz - pos[m, 2])],
                            penetrations=[float(x) for x in screen.first[k][m]]))
-    r = dict(name=name, mass=mass, height=height, seed=seed, grains=len(grains), deepest=dict(penetration=series[-1]["penetration"], force=series[-1]["force"]),
+    r = dict(name=name, mass=mass, height=height, seed=seed, crushing_is50=crush, impact_energy=0.5 * mass * p.impact_speed() ** 2,
+             crushing_energy=O.energy["flexCrushing"] if "flexCrushing" in O.energy.keys() else 0.0, grains=len(grains), deepest=dict(penetration=series[-1]["penetration"], force=series[-1]["force"]),
              stopped=bool(boulder.state.vel[2] >= 0), peak_force=max(x["force"] for x in series),
              grain_force_max=float(screen.peak.max()), grain_force_p99=float(np.percentile(screen.peak, 99)),
              broken=broken, series=series, wall_seconds=time.time() - t_wall, sample_steps=SAMPLE_STEPS)
@@ -103,7 +114,8 @@ def rows(res):
     """One summary row per case."""
     out = []
     for name, r in res.items():
-        row = dict(case=name, mass_kg=r["mass"], height_m=r["height"], fill_seed=r["seed"], peak_force_kN=r["peak_force"] / 1e3,
+        row = dict(case=name, mass_kg=r["mass"], height_m=r["height"], fill_seed=r["seed"], crushing_is50_MPa=r["crushing_is50"] / 1e6,
+                   crushing_energy_share=r["crushing_energy"] / r["impact_energy"], peak_force_kN=r["peak_force"] / 1e3,
                    deepest_penetration_mm=1e3 * r["deepest"]["penetration"], deepest_force_kN=r["deepest"]["force"] / 1e3,
                    stopped=r["stopped"], grain_force_max_kN=r["grain_force_max"] / 1e3, grain_force_p99_kN=r["grain_force_p99"] / 1e3)
         for b in r["broken"]:
@@ -130,7 +142,7 @@ def table(rs):
     head += [f"penetration at the first one, {_mpa(s)} [mm]" for s in STRENGTHS]
     head += [f"largest grain force / the grain's failure load at {_mpa(STRENGTHS[-1])}"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for r in rs:
+    for r in (r for r in rs if r["crushing_is50_MPa"] == 0):
         cells = [r["case"], _f(r["mass_kg"]), _f(r["height_m"], "{:g}"), str(r["fill_seed"]), _f(r["peak_force_kN"]), _f(r["deepest_penetration_mm"]),
                  f"{r['grain_force_max_kN']:.1f} ({r['grain_force_p99_kN']:.1f})"]
         for s in STRENGTHS:
@@ -149,7 +161,7 @@ def plot(res, path):
     import matplotlib.pyplot as plt
     fig, axs = plt.subplots(1, 3, figsize=(16, 4.6))
     colors = {}
-    for r in res.values():
+    for r in (r for r in res.values() if r["crushing_is50"] == 0):
         key = (r["mass"], r["height"])
         color = colors.setdefault(key, f"C{len(colors)}")
         style = "-" if r["seed"] == 1 else "--"
@@ -170,23 +182,108 @@ def plot(res, path):
     plt.close(fig)
 
 
+def _fit(points):
+    from yadeflex.cushion import power_fit
+    points = [(x, y) for x, y in points if y is not None and math.isfinite(y)]
+    return power_fit(*zip(*points))[1] if len(points) >= 2 else None
+
+
+def model_rows(res):
+    """One row per crushing strength (0: elastic grains) and fill: the peak forces and
+    penetrations over the five runs, their exponents, and the energy the crushing took."""
+    out = []
+    for crush in (0.0,) + CRUSHING:
+        for seed in (1, 2):
+            runs = {k: next((r for r in res.values() if (r["mass"], r["height"], r["seed"], r["crushing_is50"]) == (m, h, seed, crush)), None)
+                    for k, (m, h) in RUNS.items()}
+            get = lambda k, f: f(runs[k]) if runs[k] else None  # noqa: E731
+            peak = {k: get(k, lambda r: r["peak_force"] / 1e3) for k in RUNS}
+            pen = {k: get(k, lambda r: 1e3 * r["deepest"]["penetration"]) for k in RUNS}
+            out.append(dict(crushing_is50_MPa=crush / 1e6, fill_seed=seed, runs=sum(1 for r in runs.values() if r),
+                            **{f"peak_kN_{k}": v for k, v in peak.items()}, **{f"penetration_mm_{k}": v for k, v in pen.items()},
+                            peak_height_exp=_fit([(RUNS[k][1], peak[k]) for k in ("H1", "H2", "H4")]),
+                            peak_mass_exp=_fit([(RUNS[k][0], peak[k]) for k in ("m400", "H2", "m1600")]),
+                            peak_mass_exp_800_1600=_fit([(RUNS[k][0], peak[k]) for k in ("H2", "m1600")]),
+                            penetration_height_exp=_fit([(RUNS[k][1], pen[k]) for k in ("H1", "H2", "H4")]),
+                            crushing_energy_share_H2=get("H2", lambda r: r["crushing_energy"] / r["impact_energy"]),
+                            crushing_energy_share_m1600=get("m1600", lambda r: r["crushing_energy"] / r["impact_energy"])))
+    return out
+
+
+def model_table(ms):
+    head = ["grains' rock Is(50)", "fill seed", "runs", "peak [kN] H = 1 / 2 / 4 m", "peak [kN] m = 400 / 1600 kg",
+            "penetration [mm] H = 1 / 2 / 4 m", "penetration [mm] m = 400 / 1600 kg", "peak ~ H^b", "peak ~ m^b (400-1600 kg)",
+            "peak ~ m^b (800-1600 kg)", "penetration ~ H^b", "energy to crushing, 800 / 1600 kg from 2 m [% of the impact energy]"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for m in ms:
+        exp = lambda k: _f(m[k], "{:.2f}")  # noqa: E731
+        share = lambda k: _f(None if m[k] is None else 100 * m[k], "{:.1f}")  # noqa: E731
+        lines.append("| " + " | ".join([
+            "elastic (no crushing)" if m["crushing_is50_MPa"] == 0 else f"{m['crushing_is50_MPa']:g} MPa", str(m["fill_seed"]), f"{m['runs']}/5",
+            " / ".join(_f(m[f"peak_kN_{k}"]) for k in ("H1", "H2", "H4")), " / ".join(_f(m[f"peak_kN_{k}"]) for k in ("m400", "m1600")),
+            " / ".join(_f(m[f"penetration_mm_{k}"]) for k in ("H1", "H2", "H4")), " / ".join(_f(m[f"penetration_mm_{k}"]) for k in ("m400", "m1600")),
+            exp("peak_height_exp"), exp("peak_mass_exp"), exp("peak_mass_exp_800_1600"), exp("penetration_height_exp"),
+            f"{share('crushing_energy_share_H2')} / {share('crushing_energy_share_m1600')}"]) + " |")
+    return "\n".join(lines)
+
+
+def model_plot(res, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axs = plt.subplots(1, 3, figsize=(16, 4.6))
+    for k, crush in enumerate((0.0,) + CRUSHING):
+        label = "elastic grains" if crush == 0 else f"crushing, Is(50) = {_mpa(crush)}"
+        for a, key in zip(axs[:2], ("m400", "m1600")):
+            m, h = RUNS[key]
+            r = next((r for r in res.values() if (r["mass"], r["height"], r["seed"], r["crushing_is50"]) == (m, h, 1, crush)), None)
+            if r:
+                a.plot([1e3 * x["penetration"] for x in r["series"]], [x["force"] / 1e3 for x in r["series"]], color=f"C{k}", lw=1, label=label)
+                a.set(title=f"{m:g} kg from {h:g} m (fill 1)")
+        for seed, style in ((1, "o-"), (2, "s--")):
+            pts = sorted((r["mass"], r["peak_force"] / 1e3) for r in res.values()
+                         if r["height"] == 2.0 and r["seed"] == seed and r["crushing_is50"] == crush)
+            if pts:
+                axs[2].plot(*zip(*pts), style, color=f"C{k}", lw=1, label=f"{label}, fill {seed}")
+    for a in axs[:2]:
+        a.set(xlabel="penetration [mm]", ylabel="force on the boulder [kN]")
+    axs[2].set(xscale="log", yscale="log", xlabel="boulder mass [kg] (constant cube size, 2 m)", ylabel="peak force [kN]",
+               title="peak force against the mass")
+    for a in axs:
+        a.grid(alpha=0.3, which="both")
+        a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _put(readme, mark, text):
+    """Replace the text between the two markers of the file readme, if it has them."""
+    if not os.path.isfile(readme):
+        return
+    with open(readme) as f:
+        s = f.read()
+    if mark[0] in s and mark[1] in s:
+        s = s[:s.index(mark[0]) + len(mark[0])] + "\n" + text + "\n" + s[s.index(mark[1]):]
+        with open(readme, "w") as f:
+            f.write(s)
+
+
 def write(folder, res):
     os.makedirs(folder, exist_ok=True)
-    rs = rows(res)
+    rs, ms = rows(res), model_rows(res)
+    for name, table_rows in (("summary.csv", rs), ("model.csv", ms)):
+        if table_rows:
+            with open(os.path.join(folder, name), "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=list(table_rows[0]))
+                w.writeheader()
+                w.writerows(table_rows)
     if rs:
-        with open(os.path.join(folder, "summary.csv"), "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rs[0]))
-            w.writeheader()
-            w.writerows(rs)
         plot(res, os.path.join(folder, "crushing.png"))
+        model_plot(res, os.path.join(folder, "crushing_model.png"))
     readme = os.path.join(folder, "README.md")
-    if os.path.isfile(readme):
-        with open(readme) as f:
-            s = f.read()
-        if MARK[0] in s and MARK[1] in s:
-            s = s[:s.index(MARK[0]) + len(MARK[0])] + "\n" + table(rs) + "\n" + s[s.index(MARK[1]):]
-            with open(readme, "w") as f:
-                f.write(s)
+    _put(readme, MARK, table(rs))
+    _put(readme, MARK_MODEL, model_table(ms))
     return rs
 
 

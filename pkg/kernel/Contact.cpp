@@ -56,8 +56,12 @@ CappedSpring cappedSpringStep(double k, double limit, const Vec3& old, const Vec
 
 FrictionalResult frictionalStep(const FrictionalContact& p, double overlap, const Vec3& n, const Vec3& shearOld, const Vec3& dus)
 {
+	return frictionalStepWithNormal(p, p.kn * overlap, n, shearOld, dus);
+}
+
+FrictionalResult frictionalStepWithNormal(const FrictionalContact& p, double Fn, const Vec3& n, const Vec3& shearOld, const Vec3& dus)
+{
 	FrictionalResult r;
-	const double     Fn  = p.kn * overlap;
 	r.normalForce        = Fn * n;
 	const CappedSpring s = cappedSpringStep(p.ks, p.tanPhi * Fn, shearOld, dus);
 	r.shearForce         = s.value;

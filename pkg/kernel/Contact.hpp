@@ -53,5 +53,8 @@ struct FrictionalResult {
 /// overlap > 0 in contact [m]; n unit normal from 1 to 2; shearOld already carried to the new
 /// plane; dus = tangential displacement increment of 2 relative to 1 this step [m].
 FrictionalResult frictionalStep(const FrictionalContact& p, double overlap, const Vec3& n, const Vec3& shearOld, const Vec3& dus);
+/// The same with the normal force magnitude Fn [N] given (a normal spring of its own, e.g. one
+/// that yields: Crushing.hpp); the stored energy counts Fn^2 / (2 kn).
+FrictionalResult frictionalStepWithNormal(const FrictionalContact& p, double Fn, const Vec3& n, const Vec3& shearOld, const Vec3& dus);
 
 } // namespace flex

@@ -144,6 +144,7 @@ public:
 		((bool, handover, false, , "Took over the shear force of a neighbour this step"))
 		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]"))
 		((Vector3r, rollMoment, Vector3r::Zero(), , "Rolling-resistance moment on body 2 (sphere-sphere contacts) [N m]"))
+		((Real, plasticOverlap, 0, , "Permanent part of the overlap of a sphere-sphere contact whose grains crushed (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.crushingIs50`): the normal force is kn (penetrationDepth - plasticOverlap), at least 0 [m]"))
 		((Real, onsetDepth, 0, (Attr::noSave | Attr::readonly), "Overlap this contact (re)started with at this step if that was a deep onset (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.deepOnsets`), else 0 [m]")),
 		createIndex();
 	);
@@ -232,9 +233,10 @@ public:
 	void noteOverlap(Real ratio, const Interaction* I);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Law2_FlexContactGeom_FrictPhys_CundallStrack, LawFunctor,
-		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Books 'flexContactElastic', 'flexFriction' and 'flexRolling' in O.energy.",
+		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Optional grain crushing between spheres: the normal force never exceeds the point-load failure load of the smaller sphere (crushingIs50); past it the contact yields. Books 'flexContactElastic', 'flexFriction', 'flexRolling' and 'flexCrushing' in O.energy.",
 		((Real, rollingStiffness, 0, , "Rolling stiffness of sphere-sphere contacts as kr / (ks R^2) [-]; 0: no rolling resistance"))
 		((Real, rollingFriction, 0, , "Rolling friction coefficient eta: the rolling moment is capped at eta R |Fn| [-]"))
+		((Real, crushingIs50, 0, , "Point-load strength index Is(50) of the spheres' rock [Pa]; 0: spheres do not crush. Else the normal force of a sphere-sphere contact is capped at the failure load Is50 d^2 (0.05 m / d)^0.45 of the smaller sphere (diameter d; ISRM 1985); a step past it adds to the contact's plasticOverlap instead, and the work is booked as 'flexCrushing'"))
 		((long, deepOnsets, 0, , "Contacts that started with an overlap larger than onsetFactor x (their approach speed x dt): taken over from a neighbour element (a hand-over, see deepEndings), detected late (missed by the collider, or held back by a cluster's ownership rule) or in a scene built overlapping [-]"))
 		((Real, deepOnsetEnergy, 0, , "Sum of 1/2 kn d^2 over the deep onsets: normal spring energy that came with them [J]"))
 		((long, deepEndings, 0, , "Contacts that ended while still overlapping: handed over to a neighbour element, which then starts deep (see deepOnsets) [-]"))
@@ -245,6 +247,7 @@ public:
 		((int, rollIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, elastIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 		((int, frictIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
+		((int, crushIx, -1, (Attr::hidden | Attr::noSave), "energy index"))
 	);
 	// clang-format on
 	FUNCTOR2D(FlexContactGeom, FrictPhys);

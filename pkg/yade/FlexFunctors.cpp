@@ -5,6 +5,7 @@
 #include "FlexProtocol.hpp"
 #include <kernel/ClosestPoints.hpp>
 #include <kernel/Contact.hpp>
+#include <kernel/Crushing.hpp>
 #include <kernel/Triangle.hpp>
 
 #include <lib/factory/ClassFactory.hpp>
@@ -466,7 +467,15 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	const Vector3r                shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
 	const flex::FrictionalContact fc { p.kn, p.ks, p.tangensOfFrictionAngle };
-	const flex::FrictionalResult  r = flex::frictionalStep(fc, g.penetrationDepth, n, shear, dus);
+	Real                          Fn = p.kn * g.penetrationDepth, crushWork = 0;
+	if (crushingIs50 > 0 && g.nodes1[0] < 0 && g.nodes2[0] < 0 && g.tri1[0] < 0 && g.tri2[0] < 0) { // two spheres
+		const Real              limit = flex::pointLoadFailure(2 * std::min(g.refR1, g.refR2), crushingIs50);
+		const flex::NormalYield y     = flex::yieldingNormalStep(p.kn, limit, g.penetrationDepth, g.plasticOverlap, p.normalForce.norm());
+		Fn                            = y.force;
+		g.plasticOverlap              = y.plastic;
+		crushWork                     = y.dissipated;
+	}
+	const flex::FrictionalResult r  = flex::frictionalStepWithNormal(fc, Fn, n, shear, dus);
 	p.normalForce                   = r.normalForce;
 	p.shearForce                    = r.shearForce;
 	const Vector3r          F       = r.normalForce + r.shearForce; // on side 2
@@ -494,6 +503,7 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	if (scene->trackEnergy) {
 		flexa::addEnergy(scene, r.elasticEnergy + rollEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
 		flexa::addEnergy(scene, r.frictionWork, "flexFriction", frictIx, false);
+		if (crushWork != 0) flexa::addEnergy(scene, crushWork, "flexCrushing", crushIx, false);
 	}
 	return true;
 }

@@ -44,7 +44,7 @@ from . import checks as C
 from . import membrane as M
 from .materials import FRICTION_DEG
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_DX, TECCO_G65_DY, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
-from .scene import engines, step_until, DAMPING, ROLLING_FRICTION
+from .scene import engines, step_until, CRUSHING_IS50, DAMPING, ROLLING_FRICTION
 
 G = 9.81
 # a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
@@ -72,8 +72,9 @@ FILLS = {
 }
 # Presets withdrawn until the model represents what they depend on: name -> why (the refusal says it)
 WITHDRAWN_FILLS = {
-    "cellular_glass": "withdrawn: foam-glass granulate absorbs an impact by crushing its grains, and the fill's grains are elastic "
-                      "spheres that do not crush (as such they gave a higher peak force than gravel and a rebound)",
+    "cellular_glass": "withdrawn: foam-glass granulate absorbs an impact by crushing its porous grains, and the fill's grains are elastic "
+                      "spheres that do not crush (as such they gave a higher peak force than gravel and a rebound; grain_crushing_is50 "
+                      "stands in for crushing rock, not foam glass)",
 }
 
 
@@ -105,6 +106,7 @@ LIMITS = dict(
     fill_friction_deg=FRICTION_DEG,
     rolling_friction=ROLLING_FRICTION,
     fill_young=C.Range(1e6, 1e11, "Pa", note="softer grains sink into each other, stiffer ones shorten the step"),
+    grain_crushing_is50=CRUSHING_IS50,
     fill_deposition_friction_deg=C.Range(0.0, 45.0, "deg", note="at most the fill's friction angle; 0: the densest fill"),
     boulder_mass=C.Range(0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"),
     boulder_density=C.Range(500.0, 2e4, "kg/m3"),
@@ -137,6 +139,7 @@ class ModuleParams:
     fill_friction_deg: float = None  # [deg]
     rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
     fill_young: float = None         # [Pa] contact modulus of the grains (override the preset)
+    grain_crushing_is50: float = 0.0  # [Pa] point-load index Is(50) of the grains' rock during the impact: their contacts yield at its failure load (yadeflex.engines' crushing_is50); 0: grains do not crush
     fill_deposition_friction_deg: float = 0.0  # [deg] the grains' friction while they are densified (0: the densest fill; up to the fill's own friction: looser)
     boulder_mass: float = 800.0      # [kg]
     boulder_shape: str = "cube"      # 'cube' or 'sphere'
@@ -175,12 +178,13 @@ class ModuleParams:
             p["young"] = self.fill_young
         return p
 
-    def engines(self, damping, timestep_safety=None):
-        """yadeflex.engines() with this module's rolling resistance (time step: timestep_safety,
-        default this module's)."""
+    def engines(self, damping, timestep_safety=None, crushing=True):
+        """yadeflex.engines() with this module's rolling resistance and, unless crushing is
+        False (the fill), its grain crushing (time step: timestep_safety, default this module's)."""
         rf = self.preset()["rolling_friction"]
         ts = self.timestep_safety if timestep_safety is None else timestep_safety
-        return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
+        return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf,
+                       crushing_is50=self.grain_crushing_is50 if crushing else 0.0)
 
     def validate(self):
         """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
@@ -277,7 +281,7 @@ class ModuleParams:
         """Hash of every parameter the filled module depends on (the cache key)."""
         d = dataclasses.asdict(self)
         for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety",
-                  "lining_node_mass"):
+                  "lining_node_mass", "grain_crushing_is50"):
             d.pop(k)
         if d["fill_deposition_friction_deg"] == 0:  # (the default: the keys of the fills cached before the option stay)
             d.pop("fill_deposition_friction_deg")
@@ -567,7 +571,7 @@ def build_filled(params, progress=None):
         from .rope import rope_around
         rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(young=params.steel_contact_young, element_young=ROPE_6X7_YOUNG))
         rope = dict(nodes=rn, cylinders=rc)
-    O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY)
+    O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY, crushing=False)
     # the structure settles onto the fill: the mesh takes up its slack, a creep that local
     # damping slows down; 1e-3 of the fill's potential energy scale is "negligible" here. The
     # kinetic energy alone is not enough: the grains released by the container stand just clear

@@ -32,6 +32,7 @@ TIMESTEP_SAFETY = C.Range(0.0, 1.0, lo_open=True, note="x the critical step")
 # the damping module states its own, ModuleParams.timestep_safety, with its measured margin)
 DEFAULT_TIMESTEP_SAFETY = FlexTimeStepper().safety
 ROLLING_FRICTION = C.Range(0.0, 1.0, note="rolling moment / (normal force x radius)")
+CRUSHING_IS50 = C.Range(0.0, 1e9, "Pa", note="0: spheres do not crush; rock 1.5-10 MPa, Selby 1993")
 
 
 def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
@@ -42,7 +43,7 @@ def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIME
 
 
 def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
-            rolling_stiffness=0.0, rolling_friction=0.0, guard=False):
+            rolling_stiffness=0.0, rolling_friction=0.0, crushing_is50=0.0, guard=False):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
@@ -60,6 +61,10 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
     iterations ahead (pkg/yade/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop),
     and leaves out the sphere pairs whose spheres are apart from a table of their centres before
     reading their bodies (.quickReject; same results).
+    crushing_is50 [Pa]: the point-load strength index Is(50) of the spheres' rock: the normal force
+    of a sphere-sphere contact never passes the point-load failure load of the smaller sphere
+    (yadeflex.crushing.failure_load); past it the contact yields, a stand-in for the grains'
+    crushing ('flexCrushing' in O.energy). 0 (the default): spheres do not crush.
     guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
     naming the bodies at the first non-finite value, step longer than half a contact radius or
     (with O.trackEnergy) energy created without external work; it costs one pass over the
@@ -73,6 +78,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
     flex_sphere_contacts = C.boolean("flex_sphere_contacts", flex_sphere_contacts)
     rolling_stiffness = C.number("rolling_stiffness", rolling_stiffness, C.Range(0.0))
     rolling_friction = C.number("rolling_friction", rolling_friction, ROLLING_FRICTION)
+    crushing_is50 = C.number("crushing_is50", crushing_is50, CRUSHING_IS50)
     for b in O.bodies:
         if b is not None and isinstance(b.shape, FlexNode) and b.state.mass <= 0 and b.state.blockedDOFs != "xyzXYZ":
             raise ValueError(f"FlexNode #{b.id} has no mass: attach cylinders to it or fix it")
@@ -93,7 +99,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
             [Ip2_FrictMat_FrictMat_FrictPhys()],
             [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw", rollingStiffness=rolling_stiffness,
-                                                                                        rollingFriction=rolling_friction)],
+                                                                                        rollingFriction=rolling_friction, crushingIs50=crushing_is50)],
             label="interactionLoop"),
         FlexElementEngine(label="flexElements"),
         FlexTimeStepper(safety=timestep_safety, interval=timestep_interval, label="flexDt"),

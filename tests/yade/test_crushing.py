@@ -94,7 +94,7 @@ def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table
     broken = [dict(is50=s, count=n, under_boulder=n, load_ratio_max=r, first_penetration=p[0] if p else None,
                    depth_below_boulder=[0.01] * n, penetrations=p)
               for s, n, r, p in ((1.5e6, 3, 2.0, [0.02, 0.05, 0.09]), (4e6, 1, 1.1, [0.06]), (10e6, 0, 0.45, []))]
-    case = dict(name="H2", mass=800.0, height=2.0, seed=1, grains=100, deepest=dict(penetration=0.1, force=9e4), stopped=True,
+    case = dict(name="H2", mass=800.0, height=2.0, seed=1, crushing_is50=0.0, impact_energy=15696.0, crushing_energy=0.0, grains=100, deepest=dict(penetration=0.1, force=9e4), stopped=True,
                 peak_force=1e5, grain_force_max=1e3, grain_force_p99=800.0, broken=broken, series=series)
     with open(tmp_path / "cases" / "H2.json", "w") as f:
         json.dump(case, f)
@@ -108,3 +108,39 @@ def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table
     assert text.startswith("before\n") and text.endswith("after\n") and "old" not in text
     assert "| H2 | 800 | 2 | 1 | 100 | 100 | 1.0 (0.8) | 3 (3, 2) | 1 (1, 1) | 0 (0, 0) | 20 | 60 | - | 0.45 |" in text
     assert (tmp_path / "summary.csv").is_file() and (tmp_path / "crushing.png").stat().st_size > 0
+    # the crushing model's summary: one elastic run of five, no exponent from one point
+    m = G.model_rows(G.load(str(tmp_path)))[0]
+    assert (m["crushing_is50_MPa"], m["fill_seed"], m["runs"], m["peak_kN_H2"], m["peak_height_exp"]) == (0.0, 1, 1, 100.0, None)
+
+
+def test_crushing_contact_rebounds_with_the_elastic_plastic_restitution(scene):
+    """A sphere hits a fixed larger sphere, frictionless, with crushing on: the normal force
+    stops at the smaller sphere's failure load P; unloading is elastic from there, so the
+    rebound carries P^2 / (2 kn) and the speed is P / sqrt(m kn) (restitution P / (v0 sqrt(m kn)),
+    the elastic peak force's share); the rest is booked as 'flexCrushing'."""
+    Ra, Rb, E, rho, v0 = 0.04, 0.02, 1e8, 2500.0, 2.0
+    a = S.sphere((0, 0, 0), Ra, density=rho, young=E, friction_deg=0.0)
+    b = S.sphere((0, 0, Ra + Rb + 1e-4), Rb, density=rho, young=E, friction_deg=0.0, velocity=(0, 0, -v0))
+    O.bodies[a].state.blockedDOFs = "xyzXYZ"
+    m, kn = O.bodies[b].state.mass, E * 2 * Ra * Rb / (Ra + Rb)  # FrictPhys: kn = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)
+    limit = 0.3 * v0 * math.sqrt(m * kn)  # a third of the elastic impact's peak force
+    is50 = limit / K.failure_load(2 * Rb, 1.0)
+    O.engines = yf.engines(gravity=(0, 0, 0), timestep_safety=0.05, crushing_is50=is50)
+    O.trackEnergy = True
+    peak = 0.0
+    while O.time < 0.05 and not (O.bodies[b].state.vel[2] > 0 and not O.interactions.has(a, b)):
+        yf.step_until(math.inf, 1)
+        if O.interactions.has(a, b) and O.interactions[a, b].isReal:
+            peak = max(peak, O.interactions[a, b].phys.normalForce.norm())
+    assert peak == pytest.approx(limit, rel=1e-12)
+    # to the leap-frog's error at a twentieth of the critical step (7e-5 and 1e-3 here; at half
+    # the critical step 6% and 9%)
+    v_out = O.bodies[b].state.vel[2]
+    assert v_out == pytest.approx(limit / math.sqrt(m * kn), rel=2e-3)
+    assert O.energy["flexCrushing"] == pytest.approx(0.5 * m * (v0 ** 2 - v_out ** 2), rel=3e-3)
+
+
+def test_engines_refuse_a_negative_or_non_finite_crushing_index(scene):
+    for bad in (-1.0, math.nan, math.inf):
+        with pytest.raises(ValueError, match="crushing_is50"):
+            yf.engines(crushing_is50=bad)

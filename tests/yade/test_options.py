@@ -43,6 +43,7 @@ BAD = [
     (["--fill-friction-deg", "90"], "--fill-friction-deg"), (["--fill-friction-deg", "-5"], "--fill-friction-deg"),
     (["--rolling-friction", "-0.1"], "--rolling-friction"), (["--rolling-friction", "inf"], "--rolling-friction"),
     (["--fill-young", "0"], "--fill-young"), (["--fill-young", "1e300"], "--fill-young"),
+    (["--grain-crushing-is50", "-1e6"], "--grain-crushing-is50"), (["--grain-crushing-is50", "nan"], "--grain-crushing-is50"),
     (["--fill-deposition-friction-deg", "-1"], "--fill-deposition-friction-deg"),
     (["--fill-deposition-friction-deg", "nan"], "--fill-deposition-friction-deg"),
     (["--fill-deposition-friction-deg", "39"], "--fill-deposition-friction-deg"),  # above gravel's 38
