@@ -76,4 +76,12 @@ def run(full, out):
               "the contact starts and ends within a step each: the duration is resolved to 2 dt")
     c.reference = r["reference"]
     res.append(grade(c, r["measured"], dt=r["dt"], rebound_over_impact_speed=r["rebound"]))
+
+    r = cases.crushing_bounce()
+    c = _case("crushing_restitution", "rebound speed [m/s] of a sphere (R = 20 mm, 2 m/s) off a fixed one (R = 40 mm) whose contact yields at "
+              "its crushing load P, a third of the elastic peak force", "elastic-perfectly-plastic contact: the unloading is elastic from P, "
+              "rebound speed P / sqrt(m kn)", 2e-3,
+              "leap-frog at a twentieth of the critical step: the force reaches and leaves the cap within a step (7e-5 measured)")
+    c.reference = r["reference"]
+    res.append(grade(c, r["measured"], peak_force_over_crushing_load=r["peak_over_limit"], crushing_energy_over_kinetic_loss=r["crushing_over_loss"]))
     return res

@@ -158,3 +158,32 @@ def sphere_bounce(radius=0.05, density=2500.0, young=1e8, speed=1.0, timestep_sa
     kn = young * radius  # 2 E1 R1 E2 R2 / (E1 R1 + E2 R2) for equal spheres
     return dict(measured=(t_off - t_on) if t_off is not None else math.nan, reference=math.pi * math.sqrt(m / kn), dt=O.dt,
                 rebound=st.vel[2] / speed)
+
+
+def crushing_bounce(small=0.02, large=0.04, density=2500.0, young=1e8, speed=2.0, cap_share=0.3, timestep_safety=0.05):
+    """A sphere of radius small [m] hits a fixed sphere of radius large [m] (frictionless, no
+    gravity) with grain crushing on (engines' crushing_is50), its point-load index chosen so that
+    the smaller sphere's failure load P is cap_share of the elastic impact's peak force
+    speed sqrt(m kn). The contact force stops at P and unloads elastically, so the rebound speed
+    is P / sqrt(m kn) (elastic-perfectly-plastic restitution) and the rest of the impact energy is
+    booked as 'flexCrushing'. Returns the rebound speed (measured, reference), the largest normal
+    force over P and the crushing energy over the kinetic energy lost."""
+    from .crushing import failure_load
+    from .scene import engines, step_until
+    O.reset()
+    a = S.sphere((0, 0, 0), large, density=density, young=young, friction_deg=0.0)
+    b = S.sphere((0, 0, large + small + 1e-4), small, density=density, young=young, friction_deg=0.0, velocity=(0, 0, -speed))
+    O.bodies[a].state.blockedDOFs = "xyzXYZ"
+    m, kn = O.bodies[b].state.mass, young * 2 * large * small / (large + small)  # FrictPhys: 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)
+    limit = cap_share * speed * math.sqrt(m * kn)
+    O.engines = engines(gravity=(0, 0, 0), timestep_safety=timestep_safety, crushing_is50=limit / failure_load(2 * small, 1.0))
+    O.trackEnergy = True
+    peak = 0.0
+    while O.time < 1.0 and not (O.bodies[b].state.vel[2] > 0 and not O.interactions.has(a, b)):
+        step_until(math.inf, 1)
+        if O.interactions.has(a, b) and O.interactions[a, b].isReal:
+            peak = max(peak, O.interactions[a, b].phys.normalForce.norm())
+    v = O.bodies[b].state.vel[2]
+    crushed = O.energy["flexCrushing"] if "flexCrushing" in O.energy.keys() else 0.0
+    return dict(measured=v, reference=limit / math.sqrt(m * kn), peak_over_limit=peak / limit,
+                crushing_over_loss=crushed / (0.5 * m * (speed ** 2 - v ** 2)), dt=O.dt)

@@ -672,12 +672,14 @@ def filled_module(params, cache_dir=None, progress=None):
                 try:
                     O.load(f)
                     stored = O.tags["yadeflex_module_key"] if "yadeflex_module_key" in O.tags.keys() else None
+                except Exception as e:  # saved by a build whose classes have other attributes
+                    stored, problem = None, f"cannot be read by this build ({type(e).__name__}: {e})"
+                else:
                     if stored == key:
+                        # (outside the try: an error here is not the cache file's, and filling again would not mend it)
                         O.engines = params.engines(params.damping)
                         return json.loads(O.tags["yadeflex_module"]), f, True
                     problem = f"holds the module {stored!r}, not {key!r}"
-                except Exception as e:  # saved by a build whose classes have other attributes
-                    problem = f"cannot be read by this build ({type(e).__name__}: {e})"
                 O.reset()
             if problem != "missing":
                 print(f"yadeflex: the cached module {f} {problem}; filling it again", file=sys.stderr, flush=True)

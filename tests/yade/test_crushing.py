@@ -9,6 +9,7 @@ from yade import O
 
 import yadeflex as yf
 import yadeflex.scenes as S
+from yadeflex import cases
 from yadeflex import crushing as K
 
 
@@ -114,30 +115,16 @@ def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table
 
 
 def test_crushing_contact_rebounds_with_the_elastic_plastic_restitution(scene):
-    """A sphere hits a fixed larger sphere, frictionless, with crushing on: the normal force
-    stops at the smaller sphere's failure load P; unloading is elastic from there, so the
-    rebound carries P^2 / (2 kn) and the speed is P / sqrt(m kn) (restitution P / (v0 sqrt(m kn)),
-    the elastic peak force's share); the rest is booked as 'flexCrushing'."""
-    Ra, Rb, E, rho, v0 = 0.04, 0.02, 1e8, 2500.0, 2.0
-    a = S.sphere((0, 0, 0), Ra, density=rho, young=E, friction_deg=0.0)
-    b = S.sphere((0, 0, Ra + Rb + 1e-4), Rb, density=rho, young=E, friction_deg=0.0, velocity=(0, 0, -v0))
-    O.bodies[a].state.blockedDOFs = "xyzXYZ"
-    m, kn = O.bodies[b].state.mass, E * 2 * Ra * Rb / (Ra + Rb)  # FrictPhys: kn = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)
-    limit = 0.3 * v0 * math.sqrt(m * kn)  # a third of the elastic impact's peak force
-    is50 = limit / K.failure_load(2 * Rb, 1.0)
-    O.engines = yf.engines(gravity=(0, 0, 0), timestep_safety=0.05, crushing_is50=is50)
-    O.trackEnergy = True
-    peak = 0.0
-    while O.time < 0.05 and not (O.bodies[b].state.vel[2] > 0 and not O.interactions.has(a, b)):
-        yf.step_until(math.inf, 1)
-        if O.interactions.has(a, b) and O.interactions[a, b].isReal:
-            peak = max(peak, O.interactions[a, b].phys.normalForce.norm())
-    assert peak == pytest.approx(limit, rel=1e-12)
-    # to the leap-frog's error at a twentieth of the critical step (7e-5 and 1e-3 here; at half
-    # the critical step 6% and 9%)
-    v_out = O.bodies[b].state.vel[2]
-    assert v_out == pytest.approx(limit / math.sqrt(m * kn), rel=2e-3)
-    assert O.energy["flexCrushing"] == pytest.approx(0.5 * m * (v0 ** 2 - v_out ** 2), rel=3e-3)
+    """A sphere hits a fixed larger sphere, frictionless, with crushing on (yadeflex.cases.
+    crushing_bounce): the normal force stops at the smaller sphere's failure load P; unloading is
+    elastic from there, so the rebound carries P^2 / (2 kn) and the speed is P / sqrt(m kn)
+    (restitution P / (v0 sqrt(m kn)), the elastic peak force's share); the rest is booked as
+    'flexCrushing'. To the leap-frog's error at a twentieth of the critical step (7e-5 and 1e-3
+    here; at half the critical step 6% and 9%)."""
+    r = cases.crushing_bounce()
+    assert r["peak_over_limit"] == pytest.approx(1.0, rel=1e-12)
+    assert r["measured"] == pytest.approx(r["reference"], rel=2e-3)
+    assert r["crushing_over_loss"] == pytest.approx(1.0, rel=3e-3)
 
 
 def test_engines_refuse_a_negative_or_non_finite_crushing_index(scene):
