@@ -79,7 +79,7 @@ def run(full, out):
 
     r = cases.crushing_bounce()
     c = _case("crushing_restitution", "rebound speed [m/s] of a sphere (R = 20 mm, 2 m/s) off a fixed one (R = 40 mm) whose contact yields at "
-              "its crushing load P, a third of the elastic peak force", "elastic-perfectly-plastic contact: the unloading is elastic from P, "
+              "its crushing load P, 0.3 of the elastic peak force", "elastic-perfectly-plastic contact: the unloading is elastic from P, "
               "rebound speed P / sqrt(m kn)", 2e-3,
               "leap-frog at a twentieth of the critical step: the force reaches and leaves the cap within a step (7e-5 measured)")
     c.reference = r["reference"]

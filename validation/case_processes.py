@@ -62,6 +62,8 @@ def parse(script, description, cases, to_help):
     ap.add_argument("--case", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--report-only", action="store_true", help="rewrite the report from OUT/cases without running anything")
     a = ap.parse_args(sys.argv[me + 1:])
+    if a.case is not None and a.case not in cases:
+        ap.error(f"unknown case {a.case}; choose from {', '.join(cases)}")
     names = a.cases.split(",") if a.cases else list(cases)
     bad = [n for n in names if n not in cases]
     if bad:

@@ -56,7 +56,7 @@ def run_case(name, out):
     base = ModuleParams()
     # the same cube as the main job's (its size kept, the density scaled with the mass)
     p = ModuleParams(boulder_mass=mass, drop_height=height, boulder_density=base.boulder_density * mass / base.boulder_mass, seed=seed,
-                     grain_crushing_is50=crush)
+                     grain_crushing_is50=crush or None)
     t_wall = time.time()
     ids, bid, _ = impact_start(p)
     O.trackEnergy = True  # (from the first contact: the crushing model's dissipation)
@@ -118,7 +118,9 @@ def rows(res):
                    crushing_energy_share=r["crushing_energy"] / r["impact_energy"], peak_force_kN=r["peak_force"] / 1e3,
                    deepest_penetration_mm=1e3 * r["deepest"]["penetration"], deepest_force_kN=r["deepest"]["force"] / 1e3,
                    stopped=r["stopped"], grain_force_max_kN=r["grain_force_max"] / 1e3, grain_force_p99_kN=r["grain_force_p99"] / 1e3)
-        for b in r["broken"]:
+        # the screen's counts are for elastic grains: with crushing on, a capped contact sits at its
+        # failure load to the last bit, and whether it counts would be round-off
+        for b in (r["broken"] if r["crushing_is50"] == 0 else []):
             tag = f"{b['is50'] / 1e6:g}MPa"
             row[f"broken_{tag}"] = b["count"]
             row[f"broken_under_boulder_{tag}"] = b["under_boulder"]
@@ -127,6 +129,7 @@ def rows(res):
             row[f"first_break_penetration_mm_{tag}"] = None if b["first_penetration"] is None else 1e3 * b["first_penetration"]
             row[f"median_depth_below_boulder_mm_{tag}"] = (1e3 * sorted(b["depth_below_boulder"])[len(b["depth_below_boulder"]) // 2]
                                                            if b["depth_below_boulder"] else None)
+            row[f"max_depth_below_boulder_mm_{tag}"] = 1e3 * max(b["depth_below_boulder"]) if b["depth_below_boulder"] else None
         out.append(row)
     return out
 
@@ -275,7 +278,7 @@ def write(folder, res):
     for name, table_rows in (("summary.csv", rs), ("model.csv", ms)):
         if table_rows:
             with open(os.path.join(folder, name), "w", newline="") as f:
-                w = csv.DictWriter(f, fieldnames=list(table_rows[0]))
+                w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for row in table_rows for k in row)))
                 w.writeheader()
                 w.writerows(table_rows)
     if rs:

@@ -407,7 +407,8 @@ class ImpactRun:
             self.warned = True
             print(f"  WARNING t = {1e3 * (O.time - self.start):.2f} ms: a contact overlaps {100 * worst:.0f}% of its reach (sum of radii), "
                   f"{part_name(worst_ids[0], self.names)} - {part_name(worst_ids[1], self.names)}; contact forces are no longer reliable "
-                  "(stiffer contacts: --fill-young, --steel-contact-young, or a gentler impact)", flush=True)
+                  + ("(grain contacts yield at their crushing load: --grain-crushing-is50; or a gentler impact)" if self.p.grain_crushing_is50
+                     else "(stiffer contacts: --fill-young, --steel-contact-young, or a gentler impact)"), flush=True)
         e = {k: O.energy[k] for k in O.energy.keys()}
         e["t"] = O.time - self.start
         e["residual"] = O.energy.total() - self.total0

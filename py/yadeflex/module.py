@@ -139,7 +139,7 @@ class ModuleParams:
     fill_friction_deg: float = None  # [deg]
     rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
     fill_young: float = None         # [Pa] contact modulus of the grains (override the preset)
-    grain_crushing_is50: float = 0.0  # [Pa] point-load index Is(50) of the grains' rock during the impact: their contacts yield at its failure load (yadeflex.engines' crushing_is50); 0: grains do not crush
+    grain_crushing_is50: float = None  # [Pa] point-load index Is(50) of the grains' rock during the impact: their contacts yield at its failure load (yadeflex.engines' crushing_is50); None: grains do not crush
     fill_deposition_friction_deg: float = 0.0  # [deg] the grains' friction while they are densified (0: the densest fill; up to the fill's own friction: looser)
     boulder_mass: float = 800.0      # [kg]
     boulder_shape: str = "cube"      # 'cube' or 'sphere'
@@ -184,7 +184,7 @@ class ModuleParams:
         rf = self.preset()["rolling_friction"]
         ts = self.timestep_safety if timestep_safety is None else timestep_safety
         return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf,
-                       crushing_is50=self.grain_crushing_is50 if crushing else 0.0)
+                       crushing_is50=self.grain_crushing_is50 if crushing else None)
 
     def validate(self):
         """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
@@ -289,7 +289,7 @@ class ModuleParams:
             d["fill_deposition_friction_deg"] = float(d["fill_deposition_friction_deg"])
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 14  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling
+        d["_version"] = 15  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill)
         if self.with_rope():
             d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]

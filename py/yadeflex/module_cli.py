@@ -72,7 +72,7 @@ def _module_help(f):
     small = f" (--small: {SMALL[f.name]:g})" if f.name in SMALL else ""
     if f.name in LIMITS:
         if default is None:
-            default = "from --drop-height" if f.name == "impact_velocity" else "the fill preset's"
+            default = {"impact_velocity": "from --drop-height", "grain_crushing_is50": "none (grains do not crush)"}.get(f.name, "the fill preset's")
         return f"{LIMITS[f.name].text()}; default {default}{small}"
     return {"lining": f"{BOOLEAN_WORDS}; default {default}", "rope": f"{BOOLEAN_WORDS}; default: with --n-modules above 1",
             "fill": f"one of {', '.join(sorted(FILLS))} (presets below); default {default}",

@@ -32,7 +32,7 @@ TIMESTEP_SAFETY = C.Range(0.0, 1.0, lo_open=True, note="x the critical step")
 # the damping module states its own, ModuleParams.timestep_safety, with its measured margin)
 DEFAULT_TIMESTEP_SAFETY = FlexTimeStepper().safety
 ROLLING_FRICTION = C.Range(0.0, 1.0, note="rolling moment / (normal force x radius)")
-CRUSHING_IS50 = C.Range(0.0, 1e9, "Pa", note="0: spheres do not crush; rock 1.5-10 MPa, Selby 1993")
+CRUSHING_IS50 = C.Range(1e4, 1e9, "Pa", note="in Pa, not MPa: rock 1.5e6-1e7 Pa (Selby 1993)")
 
 
 def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
@@ -64,7 +64,8 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
     crushing_is50 [Pa]: the point-load strength index Is(50) of the spheres' rock: the normal force
     of a sphere-sphere contact never passes the point-load failure load of the smaller sphere
     (yadeflex.crushing.failure_load); past it the contact yields, a stand-in for the grains'
-    crushing ('flexCrushing' in O.energy). 0 (the default): spheres do not crush.
+    crushing ('flexCrushing' in O.energy; the yielded overlap is the contact's plasticOverlap,
+    lost when the spheres part). 0 or None (the default): spheres do not crush.
     guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
     naming the bodies at the first non-finite value, step longer than half a contact radius or
     (with O.trackEnergy) energy created without external work; it costs one pass over the
@@ -78,7 +79,12 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
     flex_sphere_contacts = C.boolean("flex_sphere_contacts", flex_sphere_contacts)
     rolling_stiffness = C.number("rolling_stiffness", rolling_stiffness, C.Range(0.0))
     rolling_friction = C.number("rolling_friction", rolling_friction, ROLLING_FRICTION)
-    crushing_is50 = C.number("crushing_is50", crushing_is50, CRUSHING_IS50)
+    if crushing_is50 is None or crushing_is50 == 0:
+        crushing_is50 = 0.0
+    else:
+        crushing_is50 = C.number("crushing_is50", crushing_is50, CRUSHING_IS50)
+        if not flex_sphere_contacts:
+            raise ValueError("crushing_is50: sphere contacts crush only with yade-flex's sphere-sphere law (flex_sphere_contacts=True)")
     for b in O.bodies:
         if b is not None and isinstance(b.shape, FlexNode) and b.state.mass <= 0 and b.state.blockedDOFs != "xyzXYZ":
             raise ValueError(f"FlexNode #{b.id} has no mass: attach cylinders to it or fix it")

@@ -77,3 +77,40 @@ TEST(YieldingNormalStep, WorkSplitsIntoStoredEnergyAndDissipation)
 	EXPECT_LE(dissipated, limit * p);
 	EXPECT_GT(dissipated, limit * p - limit * 2 * 4e-6);
 }
+
+// Unloading past the plastic overlap (the grains part inside the crushed zone) and back: no force
+// and no change of the plastic overlap while the overlap is below it; the trapezoid work of a
+// step in which the force reaches or leaves zero differs from the stored energy's change by at
+// most half the force times the step's overlap increment (as a plain linear contact's first and
+// last steps), and by round-off in every other step.
+TEST(YieldingNormalStep, PartsInsideTheCrushedZoneAndReloads)
+{
+	const double        kn = 1e6, limit = 50.0, h = 5e-6;
+	std::vector<double> path;
+	for (int k = 0; k <= 30; ++k)
+		path.push_back(h * k); // load to 150 um, yield past 50 um
+	for (int k = 1; k <= 30; ++k)
+		path.push_back(path[30] - h * k); // unload to 0, through the plastic overlap
+	for (int k = 1; k <= 30; ++k)
+		path.push_back(path[60] + h * k); // reload to 150 um
+	double f = 0, p = 0;
+	int    zeroSteps = 0, edges = 0;
+	for (size_t k = 1; k < path.size(); ++k) {
+		const NormalYield r    = yieldingNormalStep(kn, limit, path[k], p, f);
+		const double      step = 0.5 * (f + r.force) * (path[k] - path[k - 1]);
+		const double      dE   = 0.5 * (r.force * r.force - f * f) / kn;
+		if (path[k] < p) {
+			EXPECT_EQ(r.force, 0.0) << "step " << k;
+			EXPECT_EQ(r.plastic, p) << "step " << k;
+			++zeroSteps;
+		}
+		const bool edge = (f > 0) != (r.force > 0);
+		edges += edge;
+		EXPECT_NEAR(step, dE + r.dissipated, edge ? 0.5 * std::max(f, r.force) * h : 1e-12 * limit * h) << "step " << k;
+		f = r.force;
+		p = r.plastic;
+	}
+	EXPECT_NEAR(p, 150e-6 - limit / kn, 1e-18); // the second loading yields from where the first left off
+	EXPECT_GT(zeroSteps, 0);
+	EXPECT_EQ(edges, 3); // the force leaves 0, returns to 0 and leaves it again
+}

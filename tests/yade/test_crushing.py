@@ -127,7 +127,54 @@ def test_crushing_contact_rebounds_with_the_elastic_plastic_restitution(scene):
     assert r["crushing_over_loss"] == pytest.approx(1.0, rel=3e-3)
 
 
-def test_engines_refuse_a_negative_or_non_finite_crushing_index(scene):
-    for bad in (-1.0, math.nan, math.inf):
+def test_engines_refuse_a_crushing_index_that_is_not_a_rock_strength_in_pa(scene):
+    for bad in (-1.0, math.nan, math.inf, 1.5):  # (1.5: MPa given for Pa)
         with pytest.raises(ValueError, match="crushing_is50"):
             yf.engines(crushing_is50=bad)
+    with pytest.raises(ValueError, match="crushing_is50: .*flex_sphere_contacts"):
+        yf.engines(crushing_is50=4e6, flex_sphere_contacts=False)
+
+
+def _bounce(is50, stop=None):
+    """The trajectory (position, velocity, angular velocity per step) of a 20 mm sphere thrown at a
+    fixed 40 mm one, with friction and gravity, crushing at is50 (0: off), and whether they
+    touched; stop(interaction) ends it early."""
+    a = S.sphere((0, 0, 0), 0.04, young=1e8, friction_deg=30.0)
+    b = S.sphere((0, 0, 0.0601), 0.02, young=1e8, friction_deg=30.0, velocity=(0.3, 0, -2.0))
+    O.bodies[a].state.blockedDOFs = "xyzXYZ"
+    O.engines = yf.engines(gravity=(0, 0, -9.81), crushing_is50=is50, timestep_safety=0.05)
+    out, touched = [], False
+    for _ in range(300):
+        yf.step_until(math.inf, 1)
+        out.append((tuple(O.bodies[b].state.pos), tuple(O.bodies[b].state.vel), tuple(O.bodies[b].state.angVel)))
+        i = O.interactions[a, b] if O.interactions.has(a, b) else None
+        touched = touched or bool(i and i.isReal and i.phys.normalForce.norm() > 0)
+        if stop and i and i.isReal and stop(i):
+            break
+    return out, touched
+
+
+def test_crushing_that_is_never_reached_changes_nothing(scene):
+    """A rock strength far above the contact's force: the same trajectory to the last bit as
+    without crushing (the law's arithmetic is the same until a contact yields)."""
+    off, touched = _bounce(0.0)
+    assert touched
+    O.reset()
+    assert _bounce(1e9) == (off, True)
+
+
+def test_plastic_overlap_is_kept_when_the_scene_is_saved(scene, tmp_path):
+    """The yielded overlap is part of the contact's state: saved and loaded with the scene, the
+    run goes on as it would have."""
+    _bounce(1e5, stop=lambda i: i.geom.plasticOverlap > 0)  # a weak rock: the contact yields
+    i = next(i for i in O.interactions if i.isReal)
+    assert i.geom.plasticOverlap > 0 and i.geom.penetrationDepth > i.geom.plasticOverlap
+    ids, saved = (i.id1, i.id2), i.geom.plasticOverlap
+    O.saveTmp("crushing")
+    O.step()
+    after = (tuple(O.bodies[ids[1]].state.vel), O.interactions[ids].geom.plasticOverlap)
+    assert after[1] > saved  # still yielding: the next step needs the saved value
+    O.loadTmp("crushing")
+    assert O.interactions[ids].geom.plasticOverlap == saved
+    O.step()
+    assert (tuple(O.bodies[ids[1]].state.vel), O.interactions[ids].geom.plasticOverlap) == after
