@@ -141,7 +141,7 @@ boost::python::dict FlexSnapshot::contacts() const
 	const Scene*        scene  = Omega::instance().getScene().get();
 	const auto&         bodies = scene->bodies->body;
 	std::vector<long>   id1, id2;
-	std::vector<double> end1, end2, point, normal, fn, fs, depth;
+	std::vector<double> end1, end2, point, normal, fn, fs, depth, plastic;
 	// the centre of one side without an axis point: a sphere's centre, else the contact point
 	auto centre = [&](Body::id_t id, const GenericSpheresContact* g, std::vector<double>& out) {
 		const Body* b = (id >= 0 && (size_t)id < bodies.size()) ? bodies[id].get() : nullptr;
@@ -176,6 +176,7 @@ boost::python::dict FlexSnapshot::contacts() const
 		}
 		push3(fn, ph->normalForce);
 		push3(fs, ph->shearForce);
+		plastic.push_back(fg ? fg->plasticOverlap : 0.0);
 		if (fg) depth.push_back(fg->penetrationDepth);
 		else if (const ScGeom* sg = dynamic_cast<const ScGeom*>(I->geom.get()))
 			depth.push_back(sg->penetrationDepth);
@@ -191,7 +192,8 @@ boost::python::dict FlexSnapshot::contacts() const
 	              { "normal", &normal },
 	              { "normalForce", &fn },
 	              { "shearForce", &fs },
-	              { "penetrationDepth", &depth } });
+	              { "penetrationDepth", &depth },
+	              { "plasticOverlap", &plastic } });
 	return d;
 }
 

@@ -29,7 +29,9 @@ opens it with colours, tubes and glyphs set.
     contacts         line per contact, from    cell: id1, id2, part1, part2, kind, contactPoint [m],
                      the centre of side 1 to   normal [-] (from 1 to 2), normalForce [N], shearForce
                      side 2's (force chains)   [N] (vectors, on body 2), fn, fs, force [N] (their
-                                               magnitudes, |normal + shear|), penetrationDepth [m]
+                                               magnitudes, |normal + shear|), penetrationDepth [m],
+                                               plasticOverlap [m] (the crushed part of the overlap:
+                                               grain crushing, engines' crushing_is50; else 0)
 
 part: which part of the structure the body is, yadeflex.parts.PARTS (0 other, 1 mesh, 2 ring,
 3 rope, 4 lining, 5 slab, 6 grain, 7 boulder); kind: 10 x the smaller part id + the larger (16
@@ -151,7 +153,8 @@ def _arrays(raw, spec):
 _BODY_FIELDS = dict(group=(np.int64, 1), clumped=(np.int64, 1), pos=(np.float64, 3), vel=(np.float64, 3), angVel=(np.float64, 3),
                     mass=(np.float64, 1), radius=(np.float64, 1), blocked=(np.int64, 1))
 _CONTACT_FIELDS = dict(id1=(np.int64, 1), id2=(np.int64, 1), end1=(np.float64, 3), end2=(np.float64, 3), contactPoint=(np.float64, 3),
-                       normal=(np.float64, 3), normalForce=(np.float64, 3), shearForce=(np.float64, 3), penetrationDepth=(np.float64, 1))
+                       normal=(np.float64, 3), normalForce=(np.float64, 3), shearForce=(np.float64, 3), penetrationDepth=(np.float64, 1),
+                       plasticOverlap=(np.float64, 1))
 
 
 class _Snapshot:
@@ -355,7 +358,7 @@ def _contacts(vtk, c, fr):
     data = [("id1", c["id1"], 1), ("id2", c["id2"], 1), ("part1", p1, 1), ("part2", p2, 1),
             ("kind", 10 * np.minimum(p1, p2) + np.maximum(p1, p2), 1), ("contactPoint", c["contactPoint"], 3), ("normal", c["normal"], 3),
             ("normalForce", fn, 3), ("shearForce", fs, 3), ("fn", _norms(fn), 1), ("fs", _norms(fs), 1), ("force", _norms(fn + fs), 1),
-            ("penetrationDepth", c["penetrationDepth"], 1)]
+            ("penetrationDepth", c["penetrationDepth"], 1), ("plasticOverlap", c["plasticOverlap"], 1)]
     return _grid(vtk, pts, _VTK_LINE, np.arange(2 * n), 2, cell_data=data)
 
 

@@ -178,3 +178,19 @@ def test_plastic_overlap_is_kept_when_the_scene_is_saved(scene, tmp_path):
     assert O.interactions[ids].geom.plasticOverlap == saved
     O.step()
     assert (tuple(O.bodies[ids[1]].state.vel), O.interactions[ids].geom.plasticOverlap) == after
+
+
+def test_vtk_contacts_show_the_crushed_overlap(scene, tmp_path):
+    """The contacts' VTK file carries each contact's plasticOverlap: the crushed contact's own
+    value, 0 where nothing crushed."""
+    from test_output import _cd, _read
+    _bounce(1e5, stop=lambda i: i.geom.plasticOverlap > 0)
+    files = yf.VtkRecorder(str(tmp_path))()
+    g = _read(files["contacts"])
+    inters = yf.output.real_contacts()
+    assert g.GetNumberOfCells() == len(inters) == 1
+    assert _cd(g, "plasticOverlap")[0] == inters[0].geom.plasticOverlap > 0
+    O.reset()
+    _bounce(0.0, stop=lambda i: i.phys.normalForce.norm() > 0)
+    g = _read(yf.VtkRecorder(str(tmp_path / "off"))()["contacts"])
+    assert list(_cd(g, "plasticOverlap")) == [0.0]
