@@ -9,8 +9,9 @@ scaled), on the main job's fill and on another fill of the same preset (seed 2).
 Each case runs in its own yade-double process (--workers at a time, one thread each): the main
 job's impact from the cached filled module (yadeflex.module.impact_start) until the boulder stops
 moving down (its deepest point), reading every grain's contact forces every SAMPLE_STEPS steps,
-and writes OUT/cases/NAME.json. Then this script writes OUT/summary.csv, OUT/crushing.png and the
-table between the markers of OUT/README.md (--to DIR: the same files in DIR too).
+and writes OUT/cases/NAME.json. Then this script writes OUT/summary.csv, OUT/crushing.png,
+OUT/crushing_section.png (sections through the fill at the deepest point) and the table between
+the markers of OUT/README.md (--to DIR: the same files in DIR too).
 
 Strengths screened: Is(50) = 1.5, 4 and 10 MPa, the bounds of Selby's moderately strong and
 strong rock (yadeflex.crushing). The same ten runs again with grains that crush (the model of
@@ -95,7 +96,10 @@ def run_case(name, out):
              crushing_energy=O.energy["flexCrushing"] if "flexCrushing" in O.energy.keys() else 0.0, grains=len(grains), deepest=dict(penetration=series[-1]["penetration"], force=series[-1]["force"]),
              stopped=bool(boulder.state.vel[2] >= 0), peak_force=max(x["force"] for x in series),
              grain_force_max=float(screen.peak.max()), grain_force_p99=float(np.percentile(screen.peak, 99)),
-             broken=broken, series=series, wall_seconds=time.time() - t_wall, sample_steps=SAMPLE_STEPS)
+             broken=broken, series=series, wall_seconds=time.time() - t_wall, sample_steps=SAMPLE_STEPS,
+             # every grain at the deepest point (the section plot): centre [m], diameter [m], largest contact force [N]
+             grain_state=dict(pos=np.round(pos, 5).tolist(), d=np.round(np.asarray(d), 5).tolist(), peak=np.round(screen.peak, 1).tolist()),
+             boulder=dict(center=list(boulder.state.pos), size=size))
     os.makedirs(os.path.join(out, "cases"), exist_ok=True)
     with open(os.path.join(out, "cases", name + ".json"), "w") as f:
         json.dump(r, f, indent=1)
@@ -260,6 +264,45 @@ def model_plot(res, path):
     plt.close(fig)
 
 
+SECTION_CASES = ("H1", "m1600")  # elastic runs drawn in the section plot
+SECTION_SLAB = 0.03  # [m] grains whose centre is within this distance of the plane y = the boulder's y (about one grain)
+
+
+def section_plot(res, path, strength=1.5e6):
+    """Vertical sections through the boulder's centre at its deepest point (grains within
+    SECTION_SLAB of the plane), each grain coloured by its largest contact force over its
+    point-load failure load at `strength`: 1 and more, it would have broken."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.patches import Circle, Rectangle
+    from yadeflex.crushing import failure_load
+    cases = [res[k] for k in SECTION_CASES if k in res and "grain_state" in res[k]]
+    if not cases:
+        return
+    fig, axs = plt.subplots(1, len(cases), figsize=(6.0 * len(cases) + 1.5, 4.4), squeeze=False, layout="constrained")
+    cmap = plt.get_cmap("viridis").copy()
+    cmap.set_over("red")
+    for a, r in zip(axs[0], cases):
+        g, b = r["grain_state"], r["boulder"]
+        pos, d, peak = np.array(g["pos"]), np.array(g["d"]), np.array(g["peak"])
+        near = np.abs(pos[:, 1] - b["center"][1]) < SECTION_SLAB
+        ratio = peak[near] / failure_load(d[near], strength)
+        for (x, z), dia, q in zip(pos[near][:, [0, 2]], d[near], ratio):
+            a.add_patch(Circle((x, z), 0.5 * dia, color=cmap(min(q, 1.0001) if q < 1 else 1.0001), lw=0))
+        half = 0.5 * b["size"]
+        a.add_patch(Rectangle((b["center"][0] - half, b["center"][2] - half), b["size"], b["size"], fill=False, ec="magenta", lw=1.5))
+        broken = int(np.count_nonzero(peak / failure_load(d, strength) >= 1))
+        a.set(xlim=(-0.6, 0.6), ylim=(-0.02, 0.7), aspect="equal", xlabel="x [m]", ylabel="z [m]",
+              title=f"{r['mass']:g} kg from {r['height']:g} m, at the deepest point:\n{broken} of {len(d)} grains reached their failure load (red)")
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=matplotlib.colors.Normalize(0, 1))
+    fig.colorbar(sm, ax=axs[0].tolist(), extend="max", shrink=0.8,
+                 label=f"largest contact force / failure load\nof {_mpa(strength)} rock; section {2 * SECTION_SLAB:g} m thick")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def _put(readme, mark, text):
     """Replace the text between the two markers of the file readme, if it has them."""
     if not os.path.isfile(readme):
@@ -284,6 +327,7 @@ def write(folder, res):
     if rs:
         plot(res, os.path.join(folder, "crushing.png"))
         model_plot(res, os.path.join(folder, "crushing_model.png"))
+        section_plot(res, os.path.join(folder, "crushing_section.png"))
     readme = os.path.join(folder, "README.md")
     _put(readme, MARK, table(rs))
     _put(readme, MARK_MODEL, model_table(ms))

@@ -112,6 +112,14 @@ def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table
     # the crushing model's summary: one elastic run of five, no exponent from one point
     m = G.model_rows(G.load(str(tmp_path)))[0]
     assert (m["crushing_is50_MPa"], m["fill_seed"], m["runs"], m["peak_kN_H2"], m["peak_height_exp"]) == (0.0, 1, 1, 100.0, None)
+    assert not (tmp_path / "crushing_section.png").exists()  # no case of the section plot
+    # the section plot of a run that has its grains' state: two 50 mm grains in the plane, one at its failure load
+    P = K.failure_load(0.05, 1.5e6)
+    with open(tmp_path / "cases" / "H1.json", "w") as f:
+        json.dump(dict(case, name="H1", height=1.0, grain_state=dict(pos=[[0, 0, 0.1], [0.1, 0.5, 0.1]], d=[0.05, 0.05], peak=[P, 0.5 * P]),
+                       boulder=dict(center=[0, 0, 0.5], size=0.69)), f)
+    G.write(str(tmp_path), G.load(str(tmp_path)))
+    assert (tmp_path / "crushing_section.png").stat().st_size > 0
 
 
 def test_crushing_contact_rebounds_with_the_elastic_plastic_restitution(scene):
