@@ -290,7 +290,7 @@ def section_plot(res, path, strength=1.5e6):
         near = np.abs(pos[:, 1] - b["center"][1]) < SECTION_SLAB
         ratio = peak[near] / failure_load(d[near], strength)
         for (x, z), dia, q in zip(pos[near][:, [0, 2]], d[near], ratio):
-            a.add_patch(Circle((x, z), 0.5 * dia, color=cmap(min(q, 1.0001) if q < 1 else 1.0001), lw=0))
+            a.add_patch(Circle((x, z), 0.5 * dia, color=cmap(q if q < 1 else 2.0), lw=0))  # (past 1: the colour map's "over", red)
         half = 0.5 * b["size"]
         a.add_patch(Rectangle((b["center"][0] - half, b["center"][2] - half), b["size"], b["size"], fill=False, ec="magenta", lw=1.5))
         broken = int(np.count_nonzero(peak / failure_load(d, strength) >= 1))
