@@ -29,6 +29,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(next((a for a in sys.argv if a.endswith("fill_calibration.py")), __file__)))
 sys.path.insert(0, HERE)
 import case_processes  # noqa: E402
+from readme_table import replace_marked  # noqa: E402
 
 G = 9.81
 MARK = ("<!-- table:fill_calibration -->", "<!-- /table:fill_calibration -->")
@@ -229,23 +230,18 @@ def write(out, res, readme=None):
                         r["steps"], round(r["wall_seconds"], 1)])
     _plots(out, res, s)
     readme = readme or os.path.join(out, "README.md")
-    if os.path.isfile(readme):
-        with open(readme) as f:
-            text = f.read()
-        a, b = text.find(MARK[0]), text.find(MARK[1])
-        if a >= 0 and b > a:
-            body = table(s) + "\n\nStress-dependent moduli from the oedometer (secant over each range):\n\n" + moduli_table(s)
-            body += plate_table(s)
-            rc = ", ".join(f"{rf:g}: {ang:.1f}" for rf, ang in s["rolling_curve_gravel"])
-            body += f"\n\nGravel's angle of repose against its rolling friction (seed 1) [deg]: {rc}."
-            fast = [f"{s[n]:.1f} deg at {v:g} m/s" for n, v in (("repose_gravel_v0.1", 0.1), ("repose_gravel_v0.05", 0.05)) if n in s]
-            if fast:
-                body += f" Lifted faster than the {LIFT_SPEED:g} m/s above (seed 1): {', '.join(fast)}."
-            if "oedometer_gravel_slow" in s and s["oedometer_gravel_slow"] is not None:
-                body += f" Compressed at 0.02 /s instead of 0.05 /s: M = {s['oedometer_gravel_slow'] / 1e6:.3g} MPa (seed 1)."
-            text = text[:a + len(MARK[0])] + "\n" + body + "\n" + text[b:]
-            with open(readme, "w") as f:
-                f.write(text)
+    if not os.path.isfile(readme):  # (the tables need every case; a partial run without a README writes the files above only)
+        return s
+    body = table(s) + "\n\nStress-dependent moduli from the oedometer (secant over each range):\n\n" + moduli_table(s)
+    body += plate_table(s)
+    rc = ", ".join(f"{rf:g}: {ang:.1f}" for rf, ang in s["rolling_curve_gravel"])
+    body += f"\n\nGravel's angle of repose against its rolling friction (seed 1) [deg]: {rc}."
+    fast = [f"{s[n]:.1f} deg at {v:g} m/s" for n, v in (("repose_gravel_v0.1", 0.1), ("repose_gravel_v0.05", 0.05)) if n in s]
+    if fast:
+        body += f" Lifted faster than the {LIFT_SPEED:g} m/s above (seed 1): {', '.join(fast)}."
+    if "oedometer_gravel_slow" in s and s["oedometer_gravel_slow"] is not None:
+        body += f" Compressed at 0.02 /s instead of 0.05 /s: M = {s['oedometer_gravel_slow'] / 1e6:.3g} MPa (seed 1)."
+    replace_marked(readme, MARK, body)
     return s
 
 

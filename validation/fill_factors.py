@@ -28,6 +28,8 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from readme_table import replace_marked  # noqa: E402
 
 HEIGHTS = {"H1": 1.0, "H2": 2.0, "H4": 4.0}
 MASSES = {"m400": 400.0, "H2": 800.0, "m1600": 1600.0}  # (H2 is the 800 kg run of the mass series)
@@ -174,13 +176,7 @@ def main(argv):
     plot(a.out, rows, os.path.join(a.to, "factors.png"))
     t = table(rows)
     print(t)
-    readme = os.path.join(a.to, "README.md")
-    if os.path.isfile(readme):
-        s = open(readme).read()
-        if MARK[0] in s and MARK[1] in s:
-            s = s[:s.index(MARK[0]) + len(MARK[0])] + "\n" + t + s[s.index(MARK[1]):]
-            with open(readme, "w") as f:
-                f.write(s)
+    replace_marked(os.path.join(a.to, "README.md"), MARK, t)
 
 
 if __name__ == "__main__":

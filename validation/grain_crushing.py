@@ -30,6 +30,7 @@ REPO = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(REPO, "py"))
 sys.path.insert(0, HERE)
 import case_processes  # noqa: E402
+from readme_table import replace_marked  # noqa: E402
 
 G = 9.81
 MARK = ("<!-- table:grain_crushing -->", "<!-- /table:grain_crushing -->")
@@ -303,18 +304,6 @@ def section_plot(res, path, strength=1.5e6):
     plt.close(fig)
 
 
-def _put(readme, mark, text):
-    """Replace the text between the two markers of the file readme, if it has them."""
-    if not os.path.isfile(readme):
-        return
-    with open(readme) as f:
-        s = f.read()
-    if mark[0] in s and mark[1] in s:
-        s = s[:s.index(mark[0]) + len(mark[0])] + "\n" + text + "\n" + s[s.index(mark[1]):]
-        with open(readme, "w") as f:
-            f.write(s)
-
-
 def write(folder, res):
     os.makedirs(folder, exist_ok=True)
     rs, ms = rows(res), model_rows(res)
@@ -329,8 +318,8 @@ def write(folder, res):
         model_plot(res, os.path.join(folder, "crushing_model.png"))
         section_plot(res, os.path.join(folder, "crushing_section.png"))
     readme = os.path.join(folder, "README.md")
-    _put(readme, MARK, table(rs))
-    _put(readme, MARK_MODEL, model_table(ms))
+    replace_marked(readme, MARK, table(rs))
+    replace_marked(readme, MARK_MODEL, model_table(ms))
     return rs
 
 

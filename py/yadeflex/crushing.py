@@ -23,7 +23,6 @@ PeakGrainForces keeps, for each grain, the largest contact normal force seen so 
 strength the penetration at which the grain first reached its failure load; feed it the contacts
 of the scene (ids and normal forces: scene_contacts() reads them from YADE's scene) as often as
 the forces change."""
-import math
 
 import numpy as np
 
@@ -31,7 +30,6 @@ from . import checks as C
 
 IS50_REFERENCE = 0.05  # [m] the point-load index's reference size
 SIZE_EXPONENT = 0.45   # ISRM 1985's size correction
-ROCK_IS50 = {"moderately strong": (1.5e6, 4e6), "strong": (4e6, 10e6), "very strong": (10e6, math.inf)}  # [Pa], Selby 1993
 
 
 def failure_load(diameter, is50):
@@ -89,12 +87,6 @@ class PeakGrainForces:
     def broken(self, k):
         """Mask of the grains whose force reached the failure load at strengths[k]."""
         return ~np.isnan(self.first[k])
-
-    def count_until(self, k, penetration):
-        """Number of grains that reached the failure load at strengths[k] at a penetration of at
-        most penetration [m]."""
-        f = self.first[k]
-        return int(np.count_nonzero(f[~np.isnan(f)] <= penetration))
 
 
 def scene_contacts():
