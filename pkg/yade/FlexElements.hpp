@@ -78,6 +78,11 @@ namespace flexa {
 		Element e;
 		if (!sh) return e;
 		const std::type_info& t = typeid(*sh);
+		// the common types by the address of their type_info first: type_info's == compares the
+		// names (a string comparison) whenever the addresses differ, i.e. for every type but one
+		if (&t == &typeid(Sphere) || &t == &typeid(FlexNode)) return e;
+		if (&t == &typeid(FlexCylinder)) return elementOf(static_cast<const FlexCylinder*>(sh));
+		if (&t == &typeid(FlexFacet)) return elementOf(static_cast<const FlexFacet*>(sh));
 		if (t == typeid(FlexCylinder)) return elementOf(static_cast<const FlexCylinder*>(sh));
 		if (t == typeid(FlexFacet)) return elementOf(static_cast<const FlexFacet*>(sh));
 		if (t == typeid(Sphere) || t == typeid(FlexNode)) return e; // the common non-elements

@@ -200,6 +200,8 @@ namespace flexa {
 					}
 				return w2;
 			}
+			/// the bodies as the estimate saw them (id order)
+			const std::vector<StepBody>& bodies() const { return sb; }
 
 		private:
 			// the defining points of a body (sphere centre, element nodes), how far they may still

@@ -29,73 +29,76 @@ YADE_PLUGIN((FlexTimeStepper));
 
 using flexa::stepper::ContactRowsPass;
 
-Real FlexTimeStepper::omega2Bonds() const
-{
-	// Irons' bound with the element's own mass shares. If a node is lighter than the sum of
-	// the shares attached to it (user-modified mass), scale that element's omega^2 up.
-	auto&             bodies = *scene->bodies;
-	std::vector<Real> sumM(bodies.size(), 0), sumI(bodies.size(), 0);
-	struct Share {
-		const flexa::Element e;
-		Real                 m, I, w2;
-		Body::id_t           id;
-	};
-	std::vector<Share>      shares;
-	const shared_ptr<Body>* body = bodies.body.data();
-	const long              nb   = (long)bodies.body.size();
-	for (long id = 0; id < nb; ++id) {
-		// the bodies and their shapes ahead (without, each waited on its shape's type)
-		flexa::prefetchBodiesAhead(body, nb, id, [](const Body& c) { flexa::prefetch(c.shape.get(), sizeof(Sphere)); });
-		const shared_ptr<Body>& b = body[id];
-		if (!b || !b->shape) continue;
-		const flexa::Element e = flexa::elementOf(b->shape.get());
-		if (e.cyl && e.cyl->attached)
-			shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, b->id });
-		else if (e.fac && e.fac->attached) {
-			// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
-			// of its tangent stiffness at the strains FlexElementEngine computed this step
-			const FlexMembraneMat* mat = flexa::fastCast<FlexMembraneMat>(b->material.get());
-			const Real             f   = mat ? flex::membraneStretchFactor(e.fac->e1, e.fac->e2, flexa::membraneLaw(*mat)) : 1;
-			shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 * f, b->id });
+namespace {
+	// Irons' bound with the element's own mass shares. If a node is lighter than the sum of the
+	// shares attached to it (user-modified mass), scale that element's omega^2 up. The elements
+	// are found in the estimate's table of the bodies (sb, in id order), not by a pass over the
+	// bodies of its own.
+	Real bondsOmega2(const Scene* scene, const std::vector<flexa::stepper::StepBody>& sb, Body::id_t& stiffest)
+	{
+		auto&             bodies = *scene->bodies;
+		std::vector<Real> sumM(bodies.size(), 0), sumI(bodies.size(), 0);
+		struct Share {
+			const flexa::Element e;
+			Real                 m, I, w2;
+			Body::id_t           id;
+		};
+		std::vector<Share> shares;
+		const long         nb = std::min((long)sb.size(), (long)bodies.size());
+		for (long id = 0; id < nb; ++id) {
+			const flexa::Element& e = sb[id].el;
+			if (!e.nNodes) continue;
+			if (e.cyl && e.cyl->attached)
+				shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, (Body::id_t)id });
+			else if (e.fac && e.fac->attached) {
+				// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
+				// of its tangent stiffness at the strains FlexElementEngine computed this step
+				const shared_ptr<Body>& b   = bodies[id];
+				const FlexMembraneMat*  mat = b ? flexa::fastCast<FlexMembraneMat>(b->material.get()) : nullptr;
+				const Real              f   = mat ? flex::membraneStretchFactor(e.fac->e1, e.fac->e2, flexa::membraneLaw(*mat)) : 1;
+				shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 * f, (Body::id_t)id });
+			}
 		}
+		for (const Share& sh : shares)
+			for (int k = 0; k < sh.e.nNodes; ++k) {
+				sumM[sh.e.nodes[k]] += sh.m;
+				sumI[sh.e.nodes[k]] += sh.I;
+			}
+		Real w2  = 0;
+		stiffest = -1;
+		for (const Share& sh : shares) {
+			bool moves = false; // an element whose nodes are all clamped has no mode of its own
+			for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
+				const shared_ptr<Body>& nb = bodies[sh.e.nodes[k]];
+				moves                      = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
+			}
+			if (!moves) continue;
+			// the element's omega^2 with the nodes' actual masses, each node's mass split among its
+			// elements in proportion to their shares: at most omega2 x the largest share-to-mass ratio
+			// (Irons), below omega2 where every node is heavier than its shares (mass scaling)
+			Real scale = 0;
+			for (int k = 0; k < sh.e.nNodes; ++k) {
+				const int               nid = sh.e.nodes[k];
+				const shared_ptr<Body>& nb  = bodies[nid];
+				if (!nb || !nb->isDynamic()) continue;
+				const State& s = *nb->state;
+				if (s.mass > 0) scale = std::max(scale, sumM[nid] / s.mass);
+				const Real I = s.inertia.minCoeff();
+				if (I > 0) scale = std::max(scale, sumI[nid] / I);
+			}
+			// nodes as heavy as their shares (up to the round-off of summing them): the element's own
+			// omega2, as computed
+			if (scale == 0 || scale > 1 - 1e-9) scale = std::max(scale, Real(1));
+			if (sh.w2 * scale > w2) {
+				w2       = sh.w2 * scale;
+				stiffest = sh.id;
+			}
+		}
+		return w2;
 	}
-	for (const Share& sh : shares)
-		for (int k = 0; k < sh.e.nNodes; ++k) {
-			sumM[sh.e.nodes[k]] += sh.m;
-			sumI[sh.e.nodes[k]] += sh.I;
-		}
-	Real w2          = 0;
-	stiffestBondBody = -1;
-	for (const Share& sh : shares) {
-		bool moves = false; // an element whose nodes are all clamped has no mode of its own
-		for (int k = 0; k < sh.e.nNodes && !moves; ++k) {
-			const shared_ptr<Body>& nb = bodies[sh.e.nodes[k]];
-			moves                      = nb && nb->isDynamic() && nb->state->blockedDOFs != State::DOF_ALL;
-		}
-		if (!moves) continue;
-		// the element's omega^2 with the nodes' actual masses, each node's mass split among its
-		// elements in proportion to their shares: at most omega2 x the largest share-to-mass ratio
-		// (Irons), below omega2 where every node is heavier than its shares (mass scaling)
-		Real scale = 0;
-		for (int k = 0; k < sh.e.nNodes; ++k) {
-			const int               nid = sh.e.nodes[k];
-			const shared_ptr<Body>& nb  = bodies[nid];
-			if (!nb || !nb->isDynamic()) continue;
-			const State& s = *nb->state;
-			if (s.mass > 0) scale = std::max(scale, sumM[nid] / s.mass);
-			const Real I = s.inertia.minCoeff();
-			if (I > 0) scale = std::max(scale, sumI[nid] / I);
-		}
-		// nodes as heavy as their shares (up to the round-off of summing them): the element's own
-		// omega2, as computed
-		if (scale == 0 || scale > 1 - 1e-9) scale = std::max(scale, Real(1));
-		if (sh.w2 * scale > w2) {
-			w2               = sh.w2 * scale;
-			stiffestBondBody = sh.id;
-		}
-	}
-	return w2;
-}
+} // namespace
+
+Real FlexTimeStepper::omega2Bonds() const { return bondsOmega2(scene, flexa::stepper::stepBodies(scene), stiffestBondBody); }
 
 Real FlexTimeStepper::omega2Contacts() const { return omega2ContactsImpl(nullptr, false); }
 
@@ -127,8 +130,11 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 	Real c = 0;
 	for (const auto& e : scene->engines)
 		if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) c = std::max(c, std::abs(nw->damping));
-	const Real wb = omega2Bonds(), wc = omega2ContactsImpl(nullptr, mark);
-	stiffestCache = wc >= wb ? stiffestContactBody : stiffestBondBody;
+	// (one table of the bodies for both bounds)
+	ContactRowsPass pass(scene, prefetch, skipUnreachable, mark, nullptr);
+	const Real      wc = pass.run(stiffestContactBody, skippedCache);
+	const Real      wb = bondsOmega2(scene, pass.bodies(), stiffestBondBody);
+	stiffestCache      = wc >= wb ? stiffestContactBody : stiffestBondBody;
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
 
