@@ -3,6 +3,7 @@
 #
 #     /usr/bin/python3 bench/time_to_result.py --before DIR [--after DIR] [--reps 3] [--small]
 #         [--threads-reps 2] [--fill-once] [--out bench/results/time_to_result.csv]
+#     /usr/bin/python3 bench/time_to_result.py --threads-only [--threads-reps 5] [--after DIR]
 #
 # A build is a checkout DIR: its scripts/damping_module.py and py/ are run with the plugin
 # installed in DIR/.prefix (`cd DIR && YADE_PREFIX=$PWD/.prefix scripts/setup`), or the system's
@@ -12,7 +13,10 @@
 #   impact: yade-double -n -j1 -x DIR/scripts/damping_module.py --cache-dir <that folder> --out <folder>
 # (the main job's defaults, VTK frames included). Each stage's time is the wall time of the whole
 # process, YADE's start included: what a user waits for. Then --threads-reps impacts of the after
-# build at -j1 and -j2, alternating, from its first fill (both cores must be free).
+# build at -j1 and -j2, alternating, from its first fill (both cores must be free); each row has
+# the whole process's time and the impact's as the run reports it (summary.json's impact_time_s:
+# after the fill is loaded, up to the summary; the plots and YADE's start not included) with its
+# steps. --threads-only: only these, from the after build's fill in a new cache folder (filled first).
 # Writes --out (stage,before_s,after_s: rows fill and impact, medians), <out>_runs.csv (every
 # run with its peak force, penetration, energy residual and the fill's state: grains, solid
 # fraction, coordination, grains on the lining), <out>_threads.csv, the machine line, and
@@ -20,6 +24,7 @@
 import argparse
 import csv
 import json
+import math
 import os
 import shutil
 import statistics
@@ -38,15 +43,21 @@ FILL_STATE = os.path.join(HERE, "fill_state.py")
 
 def parse():
     ap = argparse.ArgumentParser(prog="time_to_result.py", description=__doc__)
-    ap.add_argument("--before", required=True, metavar="DIR", help="checkout of the earlier build (its plugin in DIR/.prefix)")
+    ap.add_argument("--before", metavar="DIR", help="checkout of the earlier build (its plugin in DIR/.prefix)")
     ap.add_argument("--after", default=REPO, metavar="DIR", help="checkout of the new build (default: this one)")
     ap.add_argument("--reps", type=int, default=3, help="repetitions of fill + impact per build (medians)")
     ap.add_argument("--threads-reps", type=int, default=2, help="impacts of the new build at -j1 and at -j2 each (0: none)")
     ap.add_argument("--small", action="store_true", help="the reduced module (a quick try, not the acceptance)")
     ap.add_argument("--fill-once", action="store_true",
                     help="fill each build once, in the first repetition, and run every impact from that fill (the fill's time is then one run)")
+    ap.add_argument("--threads-only", action="store_true", help="only the -j1/-j2 impacts of the after build (writes <out>_threads.csv)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "time_to_result.csv"))
-    return ap.parse_args()
+    a = ap.parse_args()
+    if not a.threads_only and not a.before:
+        ap.error("--before DIR is needed (or --threads-only)")
+    if a.threads_only and a.threads_reps < 1:
+        ap.error("--threads-only needs --threads-reps of at least 1")
+    return a
 
 
 def env_for(checkout):
@@ -84,12 +95,18 @@ def fill_state(cache_dir, small):
 
 def main():
     a = parse()
-    builds = [("before", os.path.abspath(a.before)), ("after", os.path.abspath(a.after))]
+    builds = [("before", a.before and os.path.abspath(a.before)), ("after", os.path.abspath(a.after))]
     size = ["--small"] if a.small else []
     work = tempfile.mkdtemp(prefix="time_to_result-")
     runs, first_cache = [], {}
     try:
-        for rep in range(a.reps):
+        if a.threads_only:
+            first_cache["after"] = os.path.join(work, "after-cache")
+            os.makedirs(first_cache["after"])
+            _, rc = yade(builds[1][1], 1, ["--fill-only", "--cache-dir", first_cache["after"], *size], os.path.join(work, "after-fill.log"))
+            if rc != 0:
+                raise RuntimeError(f"fill failed (exit {rc}), see {work}")
+        for rep in range(0 if a.threads_only else a.reps):
             for label, checkout in builds:
                 out = os.path.join(work, f"{label}-{rep}-run")
                 if a.fill_once and label in first_cache:
@@ -114,15 +131,21 @@ def main():
         threads = []
         for rep in range(a.threads_reps):
             for t in (1, 2):
-                wall, rc = yade(builds[1][1], t, ["--cache-dir", first_cache["after"], "--out", os.path.join(work, f"threads-{t}-{rep}"), *size],
-                                os.path.join(work, f"threads-{t}-{rep}.log"))
-                threads.append(dict(threads=t, rep=rep, impact_s=round(wall, 1), exit_status=rc))
-                print(f"impact at -j{t}: {wall:.1f} s", flush=True)
+                out = os.path.join(work, f"threads-{t}-{rep}")
+                wall, rc = yade(builds[1][1], t, ["--cache-dir", first_cache["after"], "--out", out, *size], os.path.join(work, f"threads-{t}-{rep}.log"))
+                with open(os.path.join(out, "summary.json")) as f:
+                    it = json.load(f).get("impact_time_s") or {}
+                threads.append(dict(threads=t, rep=rep, impact_s=round(wall, 2), exit_status=rc, impact_stage_s=round(it.get("total", math.nan), 2),
+                                    steps_s=round(it.get("steps", math.nan), 2), vtk_frames_s=round(it.get("vtk_frames", math.nan), 2)))
+                print(" ".join(f"{k}={v}" for k, v in threads[-1].items()), flush=True)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    med = {(b, k): statistics.median(r[k] for r in runs if r["build"] == b and r[k] is not None) for b, _ in builds for k in ("fill_s", "impact_s")}
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     stem = os.path.splitext(a.out)[0]
+    if a.threads_only:
+        write_threads(stem, threads)
+        return
+    med = {(b, k): statistics.median(r[k] for r in runs if r["build"] == b and r[k] is not None) for b, _ in builds for k in ("fill_s", "impact_s")}
     with open(a.out, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage", "before_s", "after_s"])
@@ -132,11 +155,6 @@ def main():
         w = csv.DictWriter(f, fieldnames=list(runs[0].keys()))
         w.writeheader()
         w.writerows(runs)
-    if threads:
-        with open(stem + "_threads.csv", "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(threads[0].keys()))
-            w.writeheader()
-            w.writerows(threads)
     with open(stem + "_machine.txt", "w") as f:
         f.write(machine_line())
     print(f"\n{'stage':8s} {'before [s]':>11s} {'after [s]':>10s} {'speed-up':>9s}   (medians of {a.reps}, one core{', small module' if a.small else ''})")
@@ -144,10 +162,25 @@ def main():
         b, c = med[("before", stage + "_s")], med[("after", stage + "_s")]
         print(f"{stage:8s} {b:11.1f} {c:10.1f} {b / c:8.2f}x")
     if threads:
-        j1 = statistics.median(r["impact_s"] for r in threads if r["threads"] == 1)
-        j2 = statistics.median(r["impact_s"] for r in threads if r["threads"] == 2)
-        print(f"impact, after: -j1 {j1:.1f} s, -j2 {j2:.1f} s: {j1 / j2:.2f}x")
-    print(f"\nwrote {a.out}, {stem}_runs.csv{', ' + stem + '_threads.csv' if threads else ''}")
+        write_threads(stem, threads)
+    print(f"\nwrote {a.out}, {stem}_runs.csv")
+
+
+def write_threads(stem, threads):
+    """<stem>_threads.csv (every run) and the medians at -j1 and -j2, with their ratio."""
+    with open(stem + "_threads.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(threads[0].keys()))
+        w.writeheader()
+        w.writerows(threads)
+    if not os.path.exists(stem + "_machine.txt"):
+        with open(stem + "_machine.txt", "w") as f:
+            f.write(machine_line())
+    print(f"\n{'after, medians':34s} {'-j1 [s]':>8s} {'-j2 [s]':>8s} {'ratio':>6s}   ({len(threads) // 2} runs each)")
+    for k, what in (("impact_s", "whole process"), ("impact_stage_s", "impact (summary's impact_time_s)"), ("steps_s", "its steps")):
+        j1 = statistics.median(r[k] for r in threads if r["threads"] == 1)
+        j2 = statistics.median(r[k] for r in threads if r["threads"] == 2)
+        print(f"{what:34s} {j1:8.2f} {j2:8.2f} {j1 / j2:5.2f}x")
+    print(f"wrote {stem}_threads.csv")
 
 
 if __name__ == "__main__":

@@ -247,6 +247,7 @@ class ImpactRun:
                                units=lambda k: "s" if k == "t" else "J")
         self.t_fill = self.cached = self.cache_file = None
         self.impact_started = False
+        self.wall = dict(free_fall=0.0, steps=0.0, records=0.0, vtk_frames=0.0)  # wall time of the impact's parts [s]
         write_json(folder.file("summary.json"), dict(status="running", stage=self.stage, pid=os.getpid()))
 
     # --- the run
@@ -300,7 +301,9 @@ class ImpactRun:
         self.progress = Progress(self.start, out=None if self.show_progress else lambda line: None)
         self.peak_f, self.max_overlap_ratio, self.warned, self.resid, self.free_fall = 0.0, 0.0, False, 0.0, None
         self.impact_started = True
+        t0 = time.time()
         self.free_fall = self._free_fall()
+        self.wall["free_fall"] = time.time() - t0
         self.dt0 = O.dt
         self._impact()
         self.signals.hold()
@@ -341,6 +344,7 @@ class ImpactRun:
             steps = 500 - O.iter % 500
             if O.time >= until:  # (a record or frame due again at once: one step, as one O.step())
                 until, steps = math.inf, 1
+            t0 = time.time()
             try:
                 step_until(until, steps)
             except RuntimeError:  # FlexGuard: non-finite state, runaway step or energy created; names the bodies
@@ -349,6 +353,8 @@ class ImpactRun:
                 self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms, stopped by FlexGuard: {guard.message}; "
                            f"bodies: {', '.join(part_name(b, self.names) for b in guard.bodies[:5])}")
                 return
+            finally:
+                self.wall["steps"] += time.time() - t0
             if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * self.dt0:
                 self._stop("unstable", f"the stable time step collapsed from {self.dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - self.start):.2f} ms; "
                            f"it is set by {part_name(ts.stiffestBody, self.names)} (a crushed lining facet or a light node under a stiff contact); "
@@ -356,17 +362,22 @@ class ImpactRun:
                 return
             if O.time >= next_rec:
                 next_rec += a.record_every
+                t0 = time.time()
                 with self.signals.deferred():
-                    if not self._record():
-                        return
+                    ok = self._record()
+                self.wall["records"] += time.time() - t0
+                if not ok:
+                    return
             if vtk is not None and O.time >= next_vtk:
                 next_vtk += a.vtk_every
+                t0 = time.time()
                 try:
                     with self.signals.deferred():
                         vtk()
                 except ImportError as e:  # VTK's Python bindings missing: the numbers matter more
                     print(f"  (no VTK output: {e})", flush=True)
                     vtk = None
+                self.wall["vtk_frames"] += time.time() - t0
 
     def _stop(self, status, message):
         self.status, self.message = status, message
@@ -468,6 +479,7 @@ class ImpactRun:
             energy_end={k: last.get(k, 0.0) for k in keys}, energy_residual_max_fraction=self.resid,
             numerical_damping_share=(last.get("nonviscDamp", 0.0) / self.e_impact), impact_steps=O.iter - self.iter0, dt_end=O.dt,
             time_per_step_us=1e6 * (wall_t - self.t_fill) / max(1, O.iter - self.iter0),
+            impact_time_s=dict(total=wall_t - self.t_fill, **self.wall),
             engine_share={e.label or type(e).__name__: round(e.execTime / tot_ns, 4) for e in O.engines})
         broken = self.broken.counts(self.el.rupturedIds)
         out.update(broken, broken_wires=broken["broken_wire_legs"])
