@@ -25,7 +25,7 @@ def main(argv):
     ap.add_argument("study_file", help="CSV: a header of the main job's option names (plus name, repeat), a row per run")
     ap.add_argument("out_dir", help="results folder: runs/NAME/, results.csv, plots")
     ap.add_argument("--backend", default="local", help="local (default), mpi (under mpirun) or slurm")
-    ap.add_argument("--workers", type=int, default=None, help="parallel runs (local: default the cores; slurm: array throttle)")
+    ap.add_argument("--workers", type=int, default=None, help="parallel runs (local: default the CPUs this process may run on; slurm: array throttle)")
     ap.add_argument("--resume", action="store_true", help="keep the runs already done, rerun the missing or failed ones")
     ap.add_argument("--cache-dir", default=None, help="filled-module cache (default ~/.cache/yadeflex/modules; on a cluster: a shared folder)")
     ap.add_argument("--timeout", type=float, default=None, help="wall seconds after which a run is stopped (recorded as timeout)")

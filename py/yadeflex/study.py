@@ -190,7 +190,9 @@ def read_study(path, out_dir=None):
 
 def _env():
     path = [os.path.join(REPO, "py"), YADE_PY] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    return dict(OMP_NUM_THREADS="1", PYTHONPATH=os.pathsep.join(path))
+    # one thread per run, not pinned: with OMP_PROC_BIND=true (an HPC habit) OpenMP binds each
+    # run's only thread to the first CPU it may use, the same CPU for every run of the pool
+    return dict(OMP_NUM_THREADS="1", OMP_PROC_BIND="false", PYTHONPATH=os.pathsep.join(path))
 
 
 def run_folder(out_dir, name):
@@ -514,7 +516,7 @@ def _check_setup(out_dir, cache_dir, backend, yade):
 def run_study(study_file, out_dir, backend="local", workers=None, resume=False, cache_dir=None, timeout=None,
               yade="yade-double", slurm=None, progress=None):
     """Run the study file into out_dir (see the module's docstring); returns the rows of
-    results.csv (dicts). workers: parallel runs (local: default the cores; mpi: the worker
+    results.csv (dicts). workers: parallel runs (local: default the CPUs this process may run on; mpi: the worker
     ranks; slurm: the array's throttle, default none). resume: keep the runs already done with
     the same options, rerun the others. cache_dir: the filled modules (default
     ~/.cache/yadeflex/modules; a shared folder for slurm). timeout: wall seconds per run.
@@ -531,7 +533,8 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
     if backend == "mpi":
         workers = mpi_workers()
     elif backend == "local":
-        workers = workers or os.cpu_count() or 1
+        cpus = len(os.sched_getaffinity(0))  # the CPUs this process may run on (taskset, cgroup, an OpenMP binding)
+        workers = workers or cpus
     write_json(os.path.join(out_dir, "study.json"), dict(study_file=os.path.abspath(study_file), cache_dir=cache_dir, runs=runs))
     todo = runs
     if resume:
@@ -544,6 +547,10 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
     kept = len(runs) - len(todo)
     say(f"study: {len(runs)} runs, {kept} already done" + (f", {len(todo)} to run" if todo else "")
         + f" ({backend}{'' if workers is None else f', {workers} workers'})")
+    if backend == "local" and todo and workers > cpus:
+        bound = os.environ.get("OMP_PROC_BIND", "").lower() not in ("", "false")
+        say(f"study: WARNING {workers} workers share the {cpus} CPU(s) this process may run on: each run takes longer"
+            + (" (OMP_PROC_BIND pins a YADE session to one CPU: run scripts/study from a shell, or unset OMP_PROC_BIND)" if bound else ""))
     if todo:
         fills = fill_tasks(todo, out_dir, cache_dir, yade)
         todo = run_tasks(todo, out_dir, cache_dir, timeout, yade, fills)

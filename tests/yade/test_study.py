@@ -216,6 +216,43 @@ def test_killed_worker_loses_only_its_run_and_resume_completes_it(local_study, c
         assert_same_run(table[name], local[name])
 
 
+def test_the_runs_of_a_study_are_not_pinned_to_one_cpu(tmp_path, monkeypatch):
+    """With OMP_PROC_BIND=true in the environment (an HPC habit), OpenMP pins a one-thread YADE to
+    the first CPU it may use, the same CPU for every run of a local pool. A study's run keeps every
+    CPU of the study."""
+    from yadeflex.study_task import run_task
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2:
+        pytest.skip("one CPU: nothing to pin")
+    monkeypatch.setenv("OMP_PROC_BIND", "true")
+    script = tmp_path / "cpus.py"
+    script.write_text("import os, sys\nopen(sys.argv[-1], 'w').write(repr(sorted(os.sched_getaffinity(0))))\n")
+    plain = subprocess.run(["yade-double", "-n", "-j", "1", "-x", str(script), str(tmp_path / "plain.txt")], capture_output=True, text=True)
+    assert plain.returncode == 0, plain.stderr[-2000:]
+    assert len(eval((tmp_path / "plain.txt").read_text())) == 1  # the hazard: pinned
+    task = study.run_tasks([dict(name="r", argv=[], fill_key="k")], str(tmp_path), str(tmp_path / "cache"))[0]
+    task["cmd"] = ["yade-double", "-n", "-j", "1", "-x", str(script), str(tmp_path / "run.txt")]  # the run's environment, this script
+    assert run_task(task)["exit_status"] == 0
+    assert eval((tmp_path / "run.txt").read_text()) == cpus
+
+
+def test_more_workers_than_cpus_are_named_before_the_runs(tmp_path, cache, monkeypatch):
+    """A local study on fewer CPUs than workers (a taskset, a cgroup, a YADE session pinned by
+    OMP_PROC_BIND) says so in its first lines; by default it starts as many workers as CPUs."""
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
+    monkeypatch.setenv("OMP_PROC_BIND", "true")
+    rows = [dict(name="r", boulder_mass="100", drop_height="0.5", **COMMON)]
+    for workers, warned in ((2, True), (None, False)):
+        lines = []
+        out = str(tmp_path / f"w{workers}")
+        study.run_study(write_study(tmp_path / "one.csv", rows), out, backend="local", workers=workers, cache_dir=cache, progress=lines.append)
+        assert lines[0].endswith(f"(local, {workers or 1} workers)")
+        warning = [x for x in lines if "WARNING" in x]
+        assert bool(warning) == warned, lines
+        if warned:
+            assert "2 workers share the 1 CPU(s)" in warning[0] and "OMP_PROC_BIND" in warning[0]
+
+
 def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
     from yadeflex.study_task import run_task
     folder = str(tmp_path / "run")
