@@ -172,9 +172,8 @@ def write_threads(stem, threads):
         w = csv.DictWriter(f, fieldnames=list(threads[0].keys()))
         w.writeheader()
         w.writerows(threads)
-    if not os.path.exists(stem + "_machine.txt"):
-        with open(stem + "_machine.txt", "w") as f:
-            f.write(machine_line())
+    with open(stem + "_machine.txt", "w") as f:
+        f.write(machine_line())
     print(f"\n{'after, medians':34s} {'-j1 [s]':>8s} {'-j2 [s]':>8s} {'ratio':>6s}   ({len(threads) // 2} runs each)")
     for k, what in (("impact_s", "whole process"), ("impact_stage_s", "impact (summary's impact_time_s)"), ("steps_s", "its steps")):
         j1 = statistics.median(r[k] for r in threads if r["threads"] == 1)

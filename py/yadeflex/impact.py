@@ -10,6 +10,7 @@ bookkeeping.
   progress lines of the impact and of the fill; unstable_body: the first non-finite body.
 """
 import bisect
+import contextlib
 import dataclasses
 import math
 import os
@@ -301,9 +302,8 @@ class ImpactRun:
         self.progress = Progress(self.start, out=None if self.show_progress else lambda line: None)
         self.peak_f, self.max_overlap_ratio, self.warned, self.resid, self.free_fall = 0.0, 0.0, False, 0.0, None
         self.impact_started = True
-        t0 = time.time()
-        self.free_fall = self._free_fall()
-        self.wall["free_fall"] = time.time() - t0
+        with self._timed("free_fall"):
+            self.free_fall = self._free_fall()
         self.dt0 = O.dt
         self._impact()
         self.signals.hold()
@@ -344,17 +344,15 @@ class ImpactRun:
             steps = 500 - O.iter % 500
             if O.time >= until:  # (a record or frame due again at once: one step, as one O.step())
                 until, steps = math.inf, 1
-            t0 = time.time()
             try:
-                step_until(until, steps)
+                with self._timed("steps"):
+                    step_until(until, steps)
             except RuntimeError:  # FlexGuard: non-finite state, runaway step or energy created; names the bodies
                 if guard is None or not guard.message:
                     raise
                 self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms, stopped by FlexGuard: {guard.message}; "
                            f"bodies: {', '.join(part_name(b, self.names) for b in guard.bodies[:5])}")
                 return
-            finally:
-                self.wall["steps"] += time.time() - t0
             if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * self.dt0:
                 self._stop("unstable", f"the stable time step collapsed from {self.dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - self.start):.2f} ms; "
                            f"it is set by {part_name(ts.stiffestBody, self.names)} (a crushed lining facet or a light node under a stiff contact); "
@@ -362,22 +360,26 @@ class ImpactRun:
                 return
             if O.time >= next_rec:
                 next_rec += a.record_every
-                t0 = time.time()
-                with self.signals.deferred():
-                    ok = self._record()
-                self.wall["records"] += time.time() - t0
-                if not ok:
-                    return
+                with self._timed("records"), self.signals.deferred():
+                    if not self._record():
+                        return
             if vtk is not None and O.time >= next_vtk:
                 next_vtk += a.vtk_every
-                t0 = time.time()
                 try:
-                    with self.signals.deferred():
+                    with self._timed("vtk_frames"), self.signals.deferred():
                         vtk()
                 except ImportError as e:  # VTK's Python bindings missing: the numbers matter more
                     print(f"  (no VTK output: {e})", flush=True)
                     vtk = None
-                self.wall["vtk_frames"] += time.time() - t0
+
+    @contextlib.contextmanager
+    def _timed(self, part):
+        """Adds the block's wall time to self.wall[part], however it ends."""
+        t0 = time.time()
+        try:
+            yield
+        finally:
+            self.wall[part] += time.time() - t0
 
     def _stop(self, status, message):
         self.status, self.message = status, message

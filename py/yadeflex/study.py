@@ -547,10 +547,13 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
     kept = len(runs) - len(todo)
     say(f"study: {len(runs)} runs, {kept} already done" + (f", {len(todo)} to run" if todo else "")
         + f" ({backend}{'' if workers is None else f', {workers} workers'})")
-    if backend == "local" and todo and workers > cpus:
+    if backend == "local" and todo:
         bound = os.environ.get("OMP_PROC_BIND", "").lower() not in ("", "false")
-        say(f"study: WARNING {workers} workers share the {cpus} CPU(s) this process may run on: each run takes longer"
-            + (" (OMP_PROC_BIND pins a YADE session to one CPU: run scripts/study from a shell, or unset OMP_PROC_BIND)" if bound else ""))
+        hint = " (OMP_PROC_BIND pins a YADE session to one CPU: run scripts/study from a shell, or unset OMP_PROC_BIND)" if bound else ""
+        if workers > cpus:
+            say(f"study: WARNING {workers} workers share the {cpus} CPU(s) this process may run on: each run takes longer{hint}")
+        elif bound and cpus == 1 < (os.cpu_count() or 1):
+            say(f"study: WARNING this process may run on 1 of the machine's {os.cpu_count()} CPUs: one run at a time{hint}")
     if todo:
         fills = fill_tasks(todo, out_dir, cache_dir, yade)
         todo = run_tasks(todo, out_dir, cache_dir, timeout, yade, fills)

@@ -59,15 +59,17 @@ def test_an_earlier_runs_files_do_not_survive(first_run):
 
 
 def test_the_impact_time_is_split_into_its_parts(first_run):
-    """summary.json's impact_time_s: the wall time after the fill (run_time_s - fill_time_s) and
-    its parts, each within it; no VTK frames timed in a --no-vtk run."""
+    """summary.json's impact_time_s: the wall time after the fill and its parts, which leave out
+    only the set-up of the impact and the summary; the steps take most of it; no VTK frames timed
+    in a --no-vtk run."""
     base, _, _ = first_run
     s = json.loads((base / "first" / "summary.json").read_text())
     t = s["impact_time_s"]
     assert set(t) == {"total", "free_fall", "steps", "records", "vtk_frames"}
-    assert t["total"] == pytest.approx(s["run_time_s"] - s["fill_time_s"], abs=1e-9)
-    assert t["vtk_frames"] == 0 and t["steps"] > 0 and t["free_fall"] > 0 and t["records"] > 0
-    assert t["free_fall"] + t["steps"] + t["records"] < t["total"]
+    assert t["total"] <= s["run_time_s"]
+    assert t["vtk_frames"] == 0 and t["free_fall"] > 0 and t["records"] > 0
+    parts = t["free_fall"] + t["steps"] + t["records"]
+    assert 0.5 * t["total"] < parts < t["total"] and t["steps"] > max(t["free_fall"], t["records"])
 
 
 def test_the_library_runner_writes_the_rows_of_the_job(first_run, tmp_path, scene):

@@ -3,6 +3,7 @@ before anything runs; a 12-run study of small modules runs through the local bac
 with the inputs of its row and its module filled once; the mpi and slurm backends give the same
 results.csv values; a worker killed loses only its run, a failed run is a result, and --resume
 completes the study."""
+import ast
 import csv
 import importlib.util
 import json
@@ -229,28 +230,31 @@ def test_the_runs_of_a_study_are_not_pinned_to_one_cpu(tmp_path, monkeypatch):
     script.write_text("import os, sys\nopen(sys.argv[-1], 'w').write(repr(sorted(os.sched_getaffinity(0))))\n")
     plain = subprocess.run(["yade-double", "-n", "-j", "1", "-x", str(script), str(tmp_path / "plain.txt")], capture_output=True, text=True)
     assert plain.returncode == 0, plain.stderr[-2000:]
-    assert len(eval((tmp_path / "plain.txt").read_text())) == 1  # the hazard: pinned
+    if len(ast.literal_eval((tmp_path / "plain.txt").read_text())) != 1:
+        pytest.skip("this OpenMP runtime does not pin a one-thread YADE at its start")  # (libgomp does)
     task = study.run_tasks([dict(name="r", argv=[], fill_key="k")], str(tmp_path), str(tmp_path / "cache"))[0]
     task["cmd"] = ["yade-double", "-n", "-j", "1", "-x", str(script), str(tmp_path / "run.txt")]  # the run's environment, this script
     assert run_task(task)["exit_status"] == 0
-    assert eval((tmp_path / "run.txt").read_text()) == cpus
+    assert ast.literal_eval((tmp_path / "run.txt").read_text()) == cpus
 
 
 def test_more_workers_than_cpus_are_named_before_the_runs(tmp_path, cache, monkeypatch):
     """A local study on fewer CPUs than workers (a taskset, a cgroup, a YADE session pinned by
     OMP_PROC_BIND) says so in its first lines; by default it starts as many workers as CPUs."""
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
-    monkeypatch.setenv("OMP_PROC_BIND", "true")
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
     rows = [dict(name="r", boulder_mass="100", drop_height="0.5", **COMMON)]
-    for workers, warned in ((2, True), (None, False)):
+    for workers, bind, warned in ((2, "true", "2 workers share the 1 CPU(s)"), (None, "true", "1 of the machine's 2 CPUs: one run at a time"),
+                                  (None, "false", None), (1, "", None)):
+        monkeypatch.setenv("OMP_PROC_BIND", bind)
         lines = []
-        out = str(tmp_path / f"w{workers}")
+        out = str(tmp_path / f"w{workers}{bind}")
         study.run_study(write_study(tmp_path / "one.csv", rows), out, backend="local", workers=workers, cache_dir=cache, progress=lines.append)
         assert lines[0].endswith(f"(local, {workers or 1} workers)")
         warning = [x for x in lines if "WARNING" in x]
-        assert bool(warning) == warned, lines
+        assert len(warning) == (1 if warned else 0), lines
         if warned:
-            assert "2 workers share the 1 CPU(s)" in warning[0] and "OMP_PROC_BIND" in warning[0]
+            assert warned in warning[0] and ("OMP_PROC_BIND" in warning[0]) == (bind == "true"), warning
 
 
 def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
