@@ -15,7 +15,8 @@ REPO = os.path.dirname(HERE)
 def spawn(script, out, name):
     """Runs `yade-double -n -j1 -x script out --case name` (one OpenMP thread, the checkout's
     package first on PYTHONPATH), its output in OUT/cases/NAME.log; returns (name, exit status, log)."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.pathsep.join([os.path.join(REPO, "py")] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_PROC_BIND="false",  # (not pinned: OMP_PROC_BIND=true would put every case on one CPU)
+               PYTHONPATH=os.pathsep.join([os.path.join(REPO, "py")] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
     log = os.path.join(out, "cases", name + ".log")
     with open(log, "w") as f:
         r = subprocess.run(["yade-double", "-n", "-j1", "-x", script, out, "--case", name], stdin=subprocess.DEVNULL, stdout=f,
@@ -27,6 +28,10 @@ def run_all(script, out, names, workers):
     """Runs the cases `names`, `workers` at a time, printing each as it ends; returns the names of
     those that failed."""
     os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+    cpus = len(os.sched_getaffinity(0))
+    if workers > cpus:  # (a YADE started with OMP_PROC_BIND=true is pinned to one CPU, and so are the cases it starts)
+        print(f"WARNING: {workers} workers share the {cpus} CPU(s) this process may run on: each case takes longer"
+              + (" (OMP_PROC_BIND is set: unset it)" if os.environ.get("OMP_PROC_BIND", "").lower() not in ("", "false") else ""), flush=True)
     t = time.time()
     failed = []
     with concurrent.futures.ThreadPoolExecutor(max(1, workers)) as pool:
