@@ -142,6 +142,8 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     stem = os.path.splitext(a.out)[0]
+    with open(stem + "_machine.txt", "w") as f:
+        f.write(machine_line())
     if a.threads_only:
         write_threads(stem, threads)
         return
@@ -151,12 +153,7 @@ def main():
         w.writerow(["stage", "before_s", "after_s"])
         for stage in ("fill", "impact"):
             w.writerow([stage, round(med[("before", stage + "_s")], 1), round(med[("after", stage + "_s")], 1)])
-    with open(stem + "_runs.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(runs[0].keys()))
-        w.writeheader()
-        w.writerows(runs)
-    with open(stem + "_machine.txt", "w") as f:
-        f.write(machine_line())
+    write_rows(stem + "_runs.csv", runs)
     print(f"\n{'stage':8s} {'before [s]':>11s} {'after [s]':>10s} {'speed-up':>9s}   (medians of {a.reps}, one core{', small module' if a.small else ''})")
     for stage in ("fill", "impact"):
         b, c = med[("before", stage + "_s")], med[("after", stage + "_s")]
@@ -166,14 +163,17 @@ def main():
     print(f"\nwrote {a.out}, {stem}_runs.csv")
 
 
+def write_rows(path, rows):
+    """A CSV of dicts, the columns those of the first."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def write_threads(stem, threads):
     """<stem>_threads.csv (every run) and the medians at -j1 and -j2, with their ratio."""
-    with open(stem + "_threads.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(threads[0].keys()))
-        w.writeheader()
-        w.writerows(threads)
-    with open(stem + "_machine.txt", "w") as f:
-        f.write(machine_line())
+    write_rows(stem + "_threads.csv", threads)
     print(f"\n{'after, medians':34s} {'-j1 [s]':>8s} {'-j2 [s]':>8s} {'ratio':>6s}   ({len(threads) // 2} runs each)")
     for k, what in (("impact_s", "whole process"), ("impact_stage_s", "impact (summary's impact_time_s)"), ("steps_s", "its steps")):
         j1 = statistics.median(r[k] for r in threads if r["threads"] == 1)
