@@ -102,11 +102,11 @@ void FlexInteractionLoop::action()
 		usedThreadSums = false;
 		return;
 	}
+	Step step(*this);
 	if (compactEvery > 0 && (scene->iter - lastCompact >= compactEvery || scene->iter < lastCompact)) {
-		compactedContacts = compactContacts(&(*scene->interactions)[0], (long)scene->interactions->size());
+		compactedContacts = compactContacts(&(*scene->interactions)[0], (long)scene->interactions->size(), step.threads);
 		lastCompact       = scene->iter;
 	}
-	Step step(*this);
 	step.findReaders();
 	step.chooseShortcuts();
 	step.makeSphereTable();

@@ -1,20 +1,26 @@
 // yade-flex adapter: FlexInteractionLoop's compaction of the contacts (compactEvery): copies of
-// their geometry and physics side by side in one block of memory, in the order the loop visits
-// them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
+// their geometry and physics side by side in one block of memory (one per thread), in the order the
+// loop visits them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
 #pragma once
 #include "Flex.hpp"
+#include "FlexTuning.hpp"
 
 #include <cstdint>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <typeinfo>
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
 
 namespace yade {
 namespace flexa {
 	namespace loop {
 		// compactEvery: copies of the contacts' geometry and physics objects, side by side in one
-		// block of memory in the order of the container (which pass 2 follows). Each copy is released
-		// on its own (InBlock runs its destructor), the block with its last copy.
+		// block of memory (per thread) in the order of the container (which pass 2 follows). Each
+		// copy is released on its own (InBlock runs its destructor), the block with its last copy.
 		struct ContactBlock {
 			std::unique_ptr<unsigned char[]> mem;
 		};
@@ -30,20 +36,23 @@ namespace flexa {
 			return I.geom && I.phys && I.geom.use_count() == 1 && I.phys.use_count() == 1 && typeid(*I.geom) == typeid(FlexContactGeom)
 			        && typeid(*I.phys) == typeid(FrictPhys);
 		}
-		inline long compactContacts(const shared_ptr<Interaction>* intrs, long n)
+		// the contacts of intrs[lo, hi) into a block of their own (one allocation: a block's copies
+		// share one count of its owners, touched by one thread only); the count copied. A failed
+		// allocation of a shared_ptr's count runs the deleter and leaves the interaction with its
+		// old object, and the exception goes on.
+		inline long compactRange(const shared_ptr<Interaction>* intrs, long lo, long hi)
 		{
 			long count = 0;
-			for (long i = 0; i < n; ++i)
+			for (long i = lo; i < hi; ++i)
 				count += movable(*intrs[i]);
 			if (count == 0) return 0;
 			const shared_ptr<ContactBlock> block(new ContactBlock);
 			block->mem.reset(new unsigned char[(size_t)count * (kGeomBytes + kPhysBytes) + 64]);
 			unsigned char* at = reinterpret_cast<unsigned char*>((reinterpret_cast<uintptr_t>(block->mem.get()) + 63) & ~uintptr_t(63));
-			for (long i = 0; i < n; ++i) {
+			for (long i = lo; i < hi; ++i) {
 				Interaction& I = *intrs[i];
 				if (!movable(I)) continue;
-				// exact copies (the same values bit for bit); a failed allocation of a shared_ptr's
-				// count runs the deleter and leaves the interaction with its old object
+				// exact copies (the same values bit for bit)
 				FlexContactGeom* g = new (at) FlexContactGeom(static_cast<const FlexContactGeom&>(*I.geom));
 				I.geom             = shared_ptr<IGeom>(g, InBlock { block });
 				at += kGeomBytes;
@@ -51,6 +60,35 @@ namespace flexa {
 				I.phys       = shared_ptr<IPhys>(p, InBlock { block });
 				at += kPhysBytes;
 			}
+			return count;
+		}
+		// All contacts of intrs[0, n); on several threads (from tuning::kCompactParallelMin
+		// interactions) each thread copies one contiguous part of the container into its own block,
+		// in the order of the container as on one thread. The count copied; the first exception
+		// goes on once every thread has stopped.
+		inline long compactContacts(const shared_ptr<Interaction>* intrs, long n, int threads)
+		{
+			if (threads < 2 || n < tuning::kCompactParallelMin) return compactRange(intrs, 0, n);
+			long               count = 0;
+			std::exception_ptr error;
+			std::mutex         errorMutex;
+#ifdef YADE_OPENMP
+#pragma omp parallel num_threads(threads) reduction(+ : count)
+#endif
+			{
+				int t = 0, nt = 1;
+#ifdef YADE_OPENMP
+				t  = omp_get_thread_num();
+				nt = omp_get_num_threads();
+#endif
+				try {
+					count += compactRange(intrs, n * t / nt, n * (t + 1) / nt);
+				} catch (...) {
+					const std::lock_guard<std::mutex> lock(errorMutex);
+					if (!error) error = std::current_exception();
+				}
+			}
+			if (error) std::rethrow_exception(error);
 			return count;
 		}
 

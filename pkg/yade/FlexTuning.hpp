@@ -24,6 +24,8 @@ namespace flexa {
 		constexpr long kStepperBodiesParallelMin = 1024;
 		/// FlexInteractionLoop.threadSumsMin: interactions for per-thread force sums.
 		constexpr long kThreadSumsMin = 4096;
+		/// FlexInteractionLoop (compactEvery): interactions for the copy of the contacts on every thread.
+		constexpr long kCompactParallelMin = 1024;
 
 		// ---- blocks and prefetch distances
 		/// FlexInteractionLoop.blockSize (interactions per block) and its largest allowed value.

@@ -103,3 +103,17 @@ def test_scene_check_on_two_threads_refuses_the_body_one_thread_does():
     assert "body #1800 (Sphere): material 'late' (FrictMat).young must be finite and positive, got -1" in a["material"], a["material"]
     assert "body #1000 (Sphere): state.vel" in a["two"], a["two"]
     assert "(FlexCylinder): shape.node2 = 10 is not a FlexNode (it is a Sphere)" in a["node"], a["node"]
+
+
+def test_contacts_copied_on_two_threads_are_exact_copies(module_cache):
+    """FlexInteractionLoop's copy of the contacts (compactEvery) runs on every thread from 1024
+    interactions, each thread copying its part of the container into a block of its own: on two
+    threads it must copy every contact it may (the count before the step) and the step must give
+    every contact the same geometry and forces bit for bit as without the copy."""
+    out = run_yade(os.path.join(HERE, "scripts", "compaction_threads_scene.py"), threads=2, args=[module_cache])
+    d = json.loads([l for l in out.splitlines() if l.startswith("COMPACT ")][-1][8:])
+    off, on = d["off"], d["on"]
+    assert on["threads"] == 2 and on["interactions"] >= 1024 and on["before"] > 50
+    assert on["compacted"] == on["before"]
+    assert len(on["rows"]) == len(off["rows"]) > 50
+    assert on["rows"] == off["rows"]
