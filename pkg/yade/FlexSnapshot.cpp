@@ -1,6 +1,7 @@
 // yade-flex adapter: FlexSnapshot (GPL-2.0-or-later). What and why: FlexSnapshot.hpp.
 #include "FlexSnapshot.hpp"
 #include "Flex.hpp"
+#include "FlexElements.hpp"
 #include "FlexFacet.hpp"
 
 #include <core/Clump.hpp>
@@ -49,6 +50,13 @@ namespace {
 	long groupOf(const Shape* s)
 	{
 		if (!s) return FlexSnapshot::kNoGroup;
+		// the scene's common shapes by their exact type first (a dynamic_cast that fails costs as
+		// much as the pass's other work on a body); then any class derived from them
+		const std::type_info& t = typeid(*s);
+		if (t == typeid(Sphere)) return FlexSnapshot::kSpheres;
+		if (t == typeid(FlexNode)) return FlexSnapshot::kNodes;
+		if (t == typeid(FlexCylinder)) return FlexSnapshot::kCylinders;
+		if (t == typeid(FlexFacet)) return FlexSnapshot::kFacets;
 		if (dynamic_cast<const FlexNode*>(s)) return FlexSnapshot::kNodes;
 		if (dynamic_cast<const FlexCylinder*>(s)) return FlexSnapshot::kCylinders;
 		if (dynamic_cast<const FlexFacet*>(s)) return FlexSnapshot::kFacets;
@@ -145,7 +153,7 @@ boost::python::dict FlexSnapshot::contacts() const
 	// the centre of one side without an axis point: a sphere's centre, else the contact point
 	auto centre = [&](Body::id_t id, const GenericSpheresContact* g, std::vector<double>& out) {
 		const Body* b = (id >= 0 && (size_t)id < bodies.size()) ? bodies[id].get() : nullptr;
-		if (b && b->state && dynamic_cast<const Sphere*>(b->shape.get())) push3(out, b->state->pos);
+		if (b && b->state && flexa::fastCast<Sphere>(b->shape.get())) push3(out, b->state->pos);
 		else if (g)
 			push3(out, g->contactPoint);
 		else
@@ -153,11 +161,14 @@ boost::python::dict FlexSnapshot::contacts() const
 	};
 	for (const auto& I : *scene->interactions) {
 		if (!I->isReal()) continue;
-		const NormShearPhys* ph = dynamic_cast<const NormShearPhys*>(I->phys.get());
+		// (the common classes by their exact type first: flexa::fastCast)
+		const FrictPhys*     fp = flexa::fastCast<FrictPhys>(I->phys.get());
+		const NormShearPhys* ph = fp ? fp : flexa::fastCast<NormShearPhys>(I->phys.get());
 		if (!ph) continue;
-		const FlexContactGeom* fg = dynamic_cast<const FlexContactGeom*>(I->geom.get());
+		const FlexContactGeom* fg = flexa::fastCast<FlexContactGeom>(I->geom.get());
 		if (fg && !fg->active) continue;
-		const GenericSpheresContact* g = dynamic_cast<const GenericSpheresContact*>(I->geom.get());
+		const ScGeom*                sg = fg ? nullptr : flexa::fastCast<ScGeom>(I->geom.get());
+		const GenericSpheresContact* g  = fg ? fg : sg ? sg : flexa::fastCast<GenericSpheresContact>(I->geom.get());
 		id1.push_back(I->getId1());
 		id2.push_back(I->getId2());
 		if (fg) {
@@ -178,7 +189,7 @@ boost::python::dict FlexSnapshot::contacts() const
 		push3(fs, ph->shearForce);
 		plastic.push_back(fg ? fg->plasticOverlap : 0.0);
 		if (fg) depth.push_back(fg->penetrationDepth);
-		else if (const ScGeom* sg = dynamic_cast<const ScGeom*>(I->geom.get()))
+		else if (sg)
 			depth.push_back(sg->penetrationDepth);
 		else
 			depth.push_back(std::numeric_limits<double>::quiet_NaN());
