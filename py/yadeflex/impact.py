@@ -25,6 +25,7 @@ from .files import CsvStream, ResultsFolder, write_json
 from .impact_plots import write_plots
 from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G, UNBALANCED_TOL
 from .output import VtkRecorder
+from .parts import scene_parts
 from .scene import contact_law, step_until
 from .signals import Interrupted, Signals
 
@@ -328,12 +329,23 @@ class ImpactRun:
         return None
 
     def _impact(self):
+        # the series' clock starts at the boulder's first contact (the CSVs' at the start of the run);
+        # on several threads, as many processes write the frames, a batch at a time
+        origin = self.start + (self.free_fall["t"] if self.free_fall else 0.0)
+        # (the parts: the module's, taken once)
+        vtk = None if self.s.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX, time_origin=origin, parts=scene_parts(),
+                                                     workers=O.numThreads)
+        try:
+            self._impact_steps(vtk)
+        finally:
+            if vtk is not None and vtk.pending:  # (however the steps ended)
+                with self._timed("vtk_frames"), self.signals.deferred():
+                    vtk.flush()
+
+    def _impact_steps(self, vtk):
         a = self.s
         # records on the grid from the start (every step records until it catches up); frames from the first contact on
         next_rec, next_vtk = self.start, O.time
-        # the series' clock starts at the boulder's first contact (the CSVs' at the start of the run)
-        origin = self.start + (self.free_fall["t"] if self.free_fall else 0.0)
-        vtk = None if a.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX, time_origin=origin)
         ts = next(e for e in O.engines if e.label == "flexDt")
         guard = next((e for e in O.engines if type(e).__name__ == "FlexGuard"), None)
         while O.time < self.times.end:

@@ -3,7 +3,8 @@
 VTK. Each frame writes one VTK XML unstructured grid (.vtu) per group of bodies and rewrites
 the collection file PREFIX.pvd, which ParaView opens as ONE time series (a multiblock, one
 block per group, named after it). The .pvd is replaced atomically after the frame's files are
-complete, so an interrupted run still opens, up to its last frame. yadeflex/paraview/open_run.py
+complete (with VtkRecorder's workers > 1: after each batch of frames), so an interrupted run still
+opens, up to its last frame written. yadeflex/paraview/open_run.py
 opens it with colours, tubes and glyphs set.
 
     group            cells                     data (SI units)
@@ -65,6 +66,7 @@ import itertools
 import math
 import os
 import re
+import signal
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -260,6 +262,17 @@ def _particles(vtk, ids, fr):
         ("velocity", vel, 3), ("speed", _norms(vel), 1), ("angularVelocity", b["angVel"][ids], 3), ("blockedDOFs", b["blocked"][ids], 1)])
 
 
+def _element_rows(ids, fr, group):
+    """(ids, node ids, field values, part ids) of the group's elements ids (ascending) in the frame."""
+    all_ids, all_nodes, all_vals = fr.snap.elements(group)
+    ids = np.asarray(ids, dtype=np.int64)
+    k = np.searchsorted(all_ids, ids)
+    if len(ids) and (k.max() >= len(all_ids) or not np.array_equal(all_ids[k], ids)):
+        raise ValueError(f"{group}: ids that are not bodies of the group in the scene: "
+                         f"{sorted(set(ids.tolist()) - set(all_ids.tolist()))[:10]}")
+    return ids, all_nodes[k], all_vals[k], fr.part_ids[ids]
+
+
 def _elements(vtk, ids, fr, group):
     """Cylinders or facets (ids, ascending): cells over their nodes (only the nodes they use, in
     the order the cells first use them), shape fields as cell data, node id and velocity as point
@@ -267,14 +280,7 @@ def _elements(vtk, ids, fr, group):
     positions (skipped if a node is gone), with broken = 1, the load fields 0 and the other fields
     as last recorded."""
     _, attrs, cell_type, fields = _ELEMENT_GROUPS[group]
-    all_ids, all_nodes, all_vals = fr.snap.elements(group)
-    ids = np.asarray(ids, dtype=np.int64)
-    k = np.searchsorted(all_ids, ids)
-    if len(ids) and (k.max() >= len(all_ids) or not np.array_equal(all_ids[k], ids)):
-        raise ValueError(f"{group}: ids that are not bodies of the group in the scene: "
-                         f"{sorted(set(ids.tolist()) - set(all_ids.tolist()))[:10]}")
-    nodes, vals = all_nodes[k], all_vals[k]
-    part = fr.part_ids[ids]
+    ids, nodes, vals, part = _element_rows(ids, fr, group)
     if fr.memory is not None:
         fr.memory.update(ids, nodes, vals, part)
     d_ids, d_nodes, d_vals, d_part = fr.broken.get(group, _NO_ROWS[group])
@@ -386,6 +392,17 @@ def _empty(g):
     return _NO_CONTACTS if g == "contacts" else []
 
 
+def _cost(g, what):
+    """Rough cost of building and writing a group's file: its rows times the arrays written."""
+    rows = len(what["id1"]) if g == "contacts" else len(what)
+    return rows * {"contacts": 16, "nodes": 9, "spheres": 9, "cylinders": 15, "facets": 14}.get(g, 4)
+
+
+def _job(vtk, cost, build, path, time, stamp):
+    """(cost, write) for _write_jobs: the grid build() returns, to path."""
+    return cost, lambda: _write_vtu(vtk, build(), path, time, stamp)
+
+
 def scene_groups(snap=None):
     """dict group -> what its builder takes, for the non-empty groups of the current scene (in id
     order): the ids of nodes, spheres and elements, the bodies of the other body groups, and 'contacts' ->
@@ -402,13 +419,16 @@ def scene_groups(snap=None):
     return out
 
 
-def _write_vtu(vtk, grid, path, time):
+def _write_vtu(vtk, grid, path, time, stamp=None):
+    """The grid to path with its field data: TimeValue (time), SceneTime and Iteration (stamp:
+    (O.time, O.iter) of its frame; default the current ones)."""
+    scene_time, iteration = (O.time, O.iter) if stamp is None else stamp
     fd = grid.GetFieldData()
     fd.AddArray(_array(vtk, "TimeValue", [time]))
-    fd.AddArray(_array(vtk, "SceneTime", [O.time]))
+    fd.AddArray(_array(vtk, "SceneTime", [scene_time]))
     it = vtk["vtkIntArray"]()
     it.SetName("Iteration")
-    it.InsertNextValue(O.iter)
+    it.InsertNextValue(iteration)
     fd.AddArray(it)
     w = vtk["writer"]()
     w.SetFileName(path)
@@ -419,8 +439,10 @@ def _write_vtu(vtk, grid, path, time):
     w.SetDataModeToBinary()
     w.SetCompressorTypeToLZ4()  # (zlib's compression took longer than building the frame)
     w.SetHeaderTypeToUInt64()
-    if w.Write() != 1:
-        raise OSError(f"VTK could not write {path}")
+    # (Write() returns 1 even when the file could not be opened: the writer's error code tells)
+    if w.Write() != 1 or w.GetErrorCode() != 0:
+        code = w.GetErrorCode()
+        raise OSError(f"VTK could not write {path}" + (f": {os.strerror(code)}" if 0 < code < 256 else ""))
 
 
 def _write_pvd(path, datasets):
@@ -445,6 +467,54 @@ def _check_every(every):
     if not (isinstance(every, int) and not isinstance(every, bool) and every >= 1):
         raise ValueError(f"every must be a positive whole number of steps, got {every!r}")
     return every
+
+
+def _write_jobs(jobs, workers):
+    """Runs the writes jobs: (cost, write) pairs, write() builds and writes one file. With workers
+    > 1, the jobs are shared out by cost (the largest first, each to the least loaded process) and
+    all but the first share run in child processes forked for the purpose (each a copy of this
+    one, so the frames' data need not be sent), while this process runs the first; it returns
+    when all are done. Raises the first error (a child's as OSError with its message)."""
+    shares = [[] for _ in range(max(1, min(int(workers), len(jobs))))]
+    # a child starts once forked (the copy of this process's page tables) and copies the pages it
+    # writes: it takes a tenth of a share less (bench/README.md, "Two threads, fifth round")
+    load = [0.0] + [0.1 * sum(c for c, _ in jobs) / len(shares)] * (len(shares) - 1)
+    for cost, write in sorted(jobs, key=lambda j: -j[0]):
+        k = load.index(min(load))
+        shares[k].append(write)
+        load[k] += cost
+    children = []
+    try:
+        for share in shares[1:]:
+            r, w = os.pipe()
+            pid = os.fork()
+            if pid == 0:  # the child: its share, then out without Python's exit handlers (the parent's)
+                status = 1
+                try:
+                    os.close(r)
+                    signal.signal(signal.SIGINT, signal.SIG_IGN)  # (the parent handles a signal once the frames are written)
+                    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+                    for write in share:
+                        write()
+                    status = 0
+                except BaseException as e:  # (reported to the parent, whatever it is)
+                    os.write(w, f"{type(e).__name__}: {e}".encode()[:4000])
+                finally:
+                    os._exit(status)
+            os.close(w)
+            children.append((pid, r))
+        for write in shares[0]:
+            write()
+    finally:
+        failed = []
+        for pid, r in children:
+            with os.fdopen(r, "rb") as f:
+                msg = f.read().decode(errors="replace")
+            _, status = os.waitpid(pid, 0)
+            if status != 0:
+                failed.append(msg or f"child exit status {status}")
+    if failed:
+        raise OSError("VTK files written by a child process failed: " + "; ".join(failed))
 
 
 def write_vtk_snapshot(folder, name, parts=None):
@@ -513,12 +583,24 @@ class VtkRecorder(_Periodic):
     to the new ones. time_origin [s]: the series' time (the .pvd's timesteps, TimeValue) is
     O.time - time_origin; SceneTime holds O.time. parts: body id -> part id (yadeflex.parts; default
     scene_parts() at each frame). Elements erased as ruptured (FlexElementEngine.rupturedIds) stay
-    in later frames with broken = 1. See the module docstring for the groups and their data."""
+    in later frames with broken = 1. See the module docstring for the groups and their data.
 
-    def __init__(self, folder, prefix="flex", every=1, time_origin=0.0, parts=None):
+    workers: processes that write the files (default 1: each frame is written when it is called).
+    With more (a run on several threads, O.numThreads), a call takes the frame's data and builds
+    what reads the bodies themselves, and the files of `batch` frames at a time are then built and
+    written by that many processes (this one and children forked for them) while the scene waits:
+    the same files, the .pvd updated after each batch. Call flush() at the end (and before reading
+    the files); the frames still waiting are listed in `pending`."""
+
+    def __init__(self, folder, prefix="flex", every=1, time_origin=0.0, parts=None, workers=1, batch=8):
         super().__init__(every)
         if not (isinstance(time_origin, (int, float)) and math.isfinite(time_origin)):
             raise ValueError(f"time_origin must be a finite time [s], got {time_origin!r}")
+        for what, v in (("workers", workers), ("batch", batch)):
+            if not (isinstance(v, int) and not isinstance(v, bool) and v >= 1):
+                raise ValueError(f"{what} must be a positive whole number, got {v!r}")
+        self.workers, self.batch = workers, batch
+        self.pending = []  # frames taken, not written yet: (scene time [s], iteration, {group: file name}, [(cost, write)])
         self.folder = folder
         self.prefix = _check_name("prefix", prefix)
         self.time_origin = float(time_origin)
@@ -557,26 +639,56 @@ class VtkRecorder(_Periodic):
         broken = self._broken()
         for g in broken:
             groups.setdefault(g, [])
-        k = len(self.frames)
+        k = len(self.frames) + len(self.pending)
         files = {}
         t = float(O.time) - self.time_origin
+        stamp = (float(O.time), O.iter)
         fr = _Frame(snap, P.scene_parts() if self.parts is None else self.parts, broken)
         none = _Frame(snap, {})  # (the shared empty files: no bodies, no broken elements)
+        later = self.workers > 1
+        jobs = []
         for g in GROUPS:
             if g not in groups:
                 continue
             files[g] = f"{self.prefix}_{g}_{k:06d}.vtu"
+            path = os.path.join(self.folder, files[g])
             fr.memory = self._memory.get(g)
-            _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), os.path.join(self.folder, files[g]), t)
+            if not later:
+                _write_vtu(vtk, _BUILD[g](vtk, groups[g], fr), path, t, stamp)
+            elif g in _BODY_LISTS:  # (built now: the builder reads the bodies)
+                built = _BUILD[g](vtk, groups[g], fr)
+                jobs.append(_job(vtk, 1, lambda built=built: built, path, t, stamp))
+            else:  # (the frame's data is taken: the snapshot's arrays, the elements remembered now)
+                if fr.memory is not None:
+                    fr.memory.update(*_element_rows(groups[g], fr, g))
+                jobs.append(_job(vtk, _cost(g, groups[g]), lambda g=g: _BUILD[g](vtk, groups[g], fr), path, t, stamp))
             if g not in self.groups:
-                _write_vtu(vtk, _BUILD[g](vtk, _empty(g), none), os.path.join(self.folder, self._empty_file(g)), t)
+                _write_vtu(vtk, _BUILD[g](vtk, _empty(g), none), os.path.join(self.folder, self._empty_file(g)), t, stamp)
                 self.groups = [x for x in GROUPS if x in self.groups or x == g]
-        self.frames.append((float(O.time), O.iter, files))
+        fr.memory = None  # (the later builds: the elements are remembered)
         self.last_iter = O.iter
+        if later:
+            self.pending.append((stamp[0], stamp[1], files, jobs))
+            if len(self.pending) >= self.batch:
+                self.flush()
+        else:
+            self.frames.append((stamp[0], stamp[1], files))
+            self._write_pvd()
+        return {g: os.path.join(self.folder, files.get(g, self._empty_file(g))) for g in self.groups}
+
+    def flush(self):
+        """Writes the frames taken and not written yet (workers > 1), then the .pvd."""
+        if not self.pending:
+            return
+        pending, self.pending = self.pending, []
+        _write_jobs([j for *_, jobs in pending for j in jobs], self.workers)
+        self.frames += [(ts, it, files) for ts, it, files, _ in pending]
+        self._write_pvd()
+
+    def _write_pvd(self):
         datasets = [(ts - self.time_origin, part, g, fr_.get(g, self._empty_file(g)))
                     for ts, _, fr_ in self.frames for part, g in enumerate(self.groups)]
         _write_pvd(self.pvd, datasets)
-        return {g: os.path.join(self.folder, files.get(g, self._empty_file(g))) for g in self.groups}
 
 
 # ---- CSV: energies ----------------------------------------------------------------------------

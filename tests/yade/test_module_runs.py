@@ -88,12 +88,12 @@ def test_the_library_runner_writes_the_rows_of_the_job(first_run, tmp_path, scen
         assert (tmp_path / "lib" / f).read_bytes() == (tmp_path / "job" / f).read_bytes(), f
 
 
-def _start(out, cache, *args, log=None):
+def _start(out, cache, *args, log=None, threads=1):
     """The main job in the background, SIGINT at its default (a shell may start it ignored);
     its output goes to the file `log` (default OUT.log)."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.path.join(REPO, "py"))
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), PYTHONPATH=os.path.join(REPO, "py"))
     log = open(log or str(out) + ".log", "w+")
-    p = subprocess.Popen(["yade-double", "-n", "-j1", "-x", SCRIPT, "--out", str(out), "--cache-dir", str(cache), *map(str, args)],
+    p = subprocess.Popen(["yade-double", "-n", f"-j{threads}", "-x", SCRIPT, "--out", str(out), "--cache-dir", str(cache), *map(str, args)],
                          stdout=log, stderr=subprocess.STDOUT, env=env, cwd=REPO,
                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     return p, log
@@ -130,6 +130,38 @@ def test_a_signal_leaves_the_rows_and_an_interrupted_summary(first_run, sig, cod
     assert float(rows[-1]["t"]) < 0.3  # cut short
     assert len(_rows(out / "energy.csv")) == len(rows)
     assert s["penetration_max"] == pytest.approx(max(float(r["penetration"]) for r in rows), rel=1e-12)
+
+
+def _series(folder):
+    """The .pvd's frames (file names by group, in order) and the frame files on disk."""
+    import xml.etree.ElementTree as ET
+    frames = {}
+    for d in ET.parse(folder / "flex.pvd").getroot().iter("DataSet"):
+        frames.setdefault(float(d.get("timestep")), []).append(d.get("file"))
+    on_disk = sorted(f for f in os.listdir(folder) if f.endswith(".vtu") and "_empty" not in f)
+    return [frames[t] for t in sorted(frames)], on_disk
+
+
+@pytest.mark.parametrize("stop", [None, signal.SIGINT])
+def test_frames_of_a_run_on_two_threads_are_all_written(first_run, stop):
+    """On two threads the frames are written by two processes, 8 at a time: at the end of the
+    run, and when a signal stops it, every frame taken is in the .pvd, in order, with its files
+    (none missing, none left out of the .pvd)."""
+    base, _, _ = first_run
+    out = base / f"frames_j2_{stop}"
+    p, log = _start(out, base / "cache", "--small", "--duration", 0.3 if stop else 0.025, threads=2)
+    if stop:
+        _wait_for(log, "  t = ", p)
+        time.sleep(1.5)
+        p.send_signal(stop)
+    assert p.wait(300) == (130 if stop else 0), log.read()[-3000:]
+    frames, on_disk = _series(out / "vtk")
+    assert len(frames) >= (3 if stop else 24)
+    listed = sorted(f for fr in frames for f in fr if "_empty" not in f)
+    assert listed == on_disk
+    assert [int(f.rsplit("_", 1)[1][:6]) for f in (fr[0] for fr in frames)] == list(range(len(frames)))
+    s = json.loads((out / "summary.json").read_text())
+    assert s["threads"] == 2 and s["impact_time_s"]["vtk_frames"] > 0
 
 
 @pytest.mark.parametrize("make", ["under a file", "a file"])

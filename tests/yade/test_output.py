@@ -379,6 +379,86 @@ def test_vtk_broken_elements_stay_as_broken(scene, tmp_path):
         yf.VtkRecorder(str(tmp_path / "x"), time_origin=float("nan"))
 
 
+
+def _recorded_run(folder, workers, batch):
+    """The contact scene (contacts, a clump, a chain) with a bar pulled apart (a rupture) and a
+    sphere that appears and is erased, recorded at 7 frames; returns the recorder, flushed."""
+    bar, _ = yf.chain([(0, 3, 0), (0.3, 3, 0)], 0.002, yf.steel(tensile_strength=400e6), segments=3, fixed=[0])
+    sc = _contact_scene()
+    O.forces.setPermF(bar[-1], Vector3(1.2 * 400e6 * math.pi * 0.002 ** 2, 0, 0))
+    el = next(e for e in O.engines if type(e).__name__ == "FlexElementEngine")
+    rec = yf.VtkRecorder(folder, workers=workers, batch=batch)
+    extra = None
+    for frame in range(7):
+        rec()
+        if frame == 1:
+            extra = S.sphere((3, 3, 1), 0.05)
+        if frame == 4:
+            O.bodies.erase(extra)
+        for _ in range(20000 if frame == 2 else 3):  # (the bar ruptures after the third frame)
+            O.step()
+            if frame == 2 and el.nRuptured:
+                break
+    rec.flush()
+    assert el.nRuptured == 1 and sc["clump"] >= 0
+    return rec
+
+
+def test_vtk_frames_written_by_several_processes_are_the_same_files(scene, tmp_path, monkeypatch):
+    """workers > 1: the frames are taken at each call and written a batch at a time by that many
+    processes; the files (every group, the empty ones, the broken element, the .pvd) are those
+    one process writes at each call, byte for byte. Until a batch is written the .pvd lists only
+    the frames written; a child's failure raises."""
+    one = _recorded_run(str(tmp_path / "one"), 1, 1)
+    O.reset()
+    two = _recorded_run(str(tmp_path / "two"), 2, 3)
+    files = sorted(os.listdir(tmp_path / "one"))
+    assert files == sorted(os.listdir(tmp_path / "two")) and len(files) > 30
+    assert {f.split("_")[1] for f in files if f.endswith(".vtu")} >= {"nodes", "cylinders", "spheres", "clumps", "contacts"}
+    for f in files:
+        with open(tmp_path / "one" / f, "rb") as a, open(tmp_path / "two" / f, "rb") as b:
+            assert a.read() == b.read(), f
+    assert one.frames == two.frames and not two.pending
+    g = _read(str(tmp_path / "two" / "flex_cylinders_000006.vtu"))
+    assert sum(_cd(g, "broken")) == 1
+    # the .pvd before and after a batch; a batch that cannot be written
+    O.reset()
+    yf.chain([(0, 0, 0), (1, 0, 0)], 0.002, yf.steel(), segments=2, fixed=[0])
+    O.engines = yf.engines()
+    out = tmp_path / "three"
+    rec = yf.VtkRecorder(str(out), workers=2, batch=2)
+    rec()
+    assert len(rec.pending) == 1 and not os.path.exists(rec.pvd) and not os.path.exists(out / "flex_cylinders_000000.vtu")
+    O.step()
+    rec()
+    assert not rec.pending and len(_frames(rec.pvd)) == 2 and os.path.exists(out / "flex_cylinders_000001.vtu")
+    O.step()
+    rec()
+    for f in os.listdir(out):
+        os.remove(out / f)
+    os.rmdir(out)
+    with pytest.raises(OSError, match="VTK could not write .*No such file"):
+        rec.flush()
+    one = yf.VtkRecorder(str(out))  # (one process: the same error)
+    os.rmdir(out)
+    with pytest.raises(OSError, match="VTK could not write .*No such file"):
+        one()
+    # a child that fails: its message reaches this process
+    parent, write = os.getpid(), yf.output._write_vtu
+
+    def fails_in_a_child(*args):
+        if os.getpid() != parent:
+            raise RuntimeError("disk gone in the child")
+        write(*args)
+
+    monkeypatch.setattr(yf.output, "_write_vtu", fails_in_a_child)
+    rec = yf.VtkRecorder(str(out), workers=2, batch=10)
+    rec()
+    with pytest.raises(OSError, match="child process failed: RuntimeError: disk gone in the child"):
+        rec.flush()
+    with pytest.raises(ValueError, match="workers"):
+        yf.VtkRecorder(str(tmp_path / "x"), workers=0)
+
 # ---- energy CSV and plots ------------------------------------------------------------------------
 
 def _energy_run(tmp_path, steps=400, every=20):
