@@ -330,11 +330,12 @@ class ImpactRun:
 
     def _impact(self):
         # the series' clock starts at the boulder's first contact (the CSVs' at the start of the run);
-        # on several threads, as many processes write the frames, a batch at a time
+        # on several threads, as many processes write the frames (at most one per CPU this process
+        # may run on), a batch at a time; the parts: the module's, taken once
         origin = self.start + (self.free_fall["t"] if self.free_fall else 0.0)
-        # (the parts: the module's, taken once)
+        workers = max(1, min(O.numThreads, len(os.sched_getaffinity(0))))
         vtk = None if self.s.no_vtk else VtkRecorder(self.folder.file(VTK_FOLDER), prefix=VTK_PREFIX, time_origin=origin, parts=scene_parts(),
-                                                     workers=O.numThreads)
+                                                     workers=workers)
         try:
             self._impact_steps(vtk)
         finally:
