@@ -36,8 +36,9 @@ namespace flexa {
 			return I.geom && I.phys && I.geom.use_count() == 1 && I.phys.use_count() == 1 && typeid(*I.geom) == typeid(FlexContactGeom)
 			        && typeid(*I.phys) == typeid(FrictPhys);
 		}
-		// the contacts of intrs[lo, hi) into a block of their own (one allocation: a block's copies
-		// share one count of its owners, touched by one thread only); the count copied. A failed
+		// the contacts of intrs[lo, hi) into a block of their own (one allocation: while a thread
+		// fills its block, that block's count of owners is touched by that thread only); the count
+		// copied. A failed
 		// allocation of a shared_ptr's count runs the deleter and leaves the interaction with its
 		// old object, and the exception goes on.
 		inline long compactRange(const shared_ptr<Interaction>* intrs, long lo, long hi)

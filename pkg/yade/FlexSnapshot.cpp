@@ -50,8 +50,8 @@ namespace {
 	long groupOf(const Shape* s)
 	{
 		if (!s) return FlexSnapshot::kNoGroup;
-		// the scene's common shapes by their exact type first (a dynamic_cast that fails costs as
-		// much as the pass's other work on a body); then any class derived from them
+		// the scene's common shapes by their exact type first (a dynamic_cast that fails walks the
+		// class hierarchy, for most bodies several times); then any class derived from them
 		const std::type_info& t = typeid(*s);
 		if (t == typeid(Sphere)) return FlexSnapshot::kSpheres;
 		if (t == typeid(FlexNode)) return FlexSnapshot::kNodes;

@@ -338,10 +338,18 @@ class ImpactRun:
                                                      workers=workers)
         try:
             self._impact_steps(vtk)
-        finally:
-            if vtk is not None and vtk.pending:  # (however the steps ended)
-                with self._timed("vtk_frames"), self.signals.deferred():
-                    vtk.flush()
+        except BaseException:  # (the frames taken are written; an error doing so does not hide this one)
+            try:
+                self._flush_frames(vtk)
+            except Exception as e:
+                print(f"{PROG}: the last VTK frames could not be written: {e}", file=sys.stderr, flush=True)
+            raise
+        self._flush_frames(vtk)
+
+    def _flush_frames(self, vtk):
+        if vtk is not None and vtk.pending:
+            with self._timed("vtk_frames"), self.signals.deferred():
+                vtk.flush()
 
     def _impact_steps(self, vtk):
         a = self.s

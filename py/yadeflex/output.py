@@ -474,7 +474,9 @@ def _write_jobs(jobs, workers):
     > 1, the jobs are shared out by cost (the largest first, each to the least loaded process) and
     all but the first share run in child processes forked for the purpose (each a copy of this
     one, so the frames' data need not be sent), while this process runs the first; it returns
-    when all are done. Raises the first error (a child's as OSError with its message)."""
+    when all are done (a share whose fork fails runs here). Raises the first error (a child's as
+    OSError with its message). The children run only numpy and VTK, never YADE or OpenMP, whose
+    threads they do not have."""
     shares = [[] for _ in range(max(1, min(int(workers), len(jobs))))]
     # a child starts once forked (the copy of this process's page tables) and copies the pages it
     # writes: it takes a tenth of a share less (bench/README.md, "Two threads, fifth round")
@@ -483,38 +485,70 @@ def _write_jobs(jobs, workers):
         k = load.index(min(load))
         shares[k].append(write)
         load[k] += cost
-    children = []
+    children, here = [], list(shares[0])
     try:
         for share in shares[1:]:
-            r, w = os.pipe()
-            pid = os.fork()
-            if pid == 0:  # the child: its share, then out without Python's exit handlers (the parent's)
-                status = 1
-                try:
-                    os.close(r)
-                    signal.signal(signal.SIGINT, signal.SIG_IGN)  # (the parent handles a signal once the frames are written)
-                    signal.signal(signal.SIGTERM, signal.SIG_IGN)
-                    for write in share:
-                        write()
-                    status = 0
-                except BaseException as e:  # (reported to the parent, whatever it is)
-                    os.write(w, f"{type(e).__name__}: {e}".encode()[:4000])
-                finally:
-                    os._exit(status)
-            os.close(w)
-            children.append((pid, r))
-        for write in shares[0]:
+            child = _fork_writer(share)
+            if child is None:
+                here += share
+            else:
+                children.append(child)
+        for write in here:
             write()
     finally:
-        failed = []
-        for pid, r in children:
-            with os.fdopen(r, "rb") as f:
-                msg = f.read().decode(errors="replace")
-            _, status = os.waitpid(pid, 0)
-            if status != 0:
-                failed.append(msg or f"child exit status {status}")
+        failed = _reap(children)
     if failed:
         raise OSError("VTK files written by a child process failed: " + "; ".join(failed))
+
+
+def _fork_writer(share):
+    """A child process that runs the writes of share and exits: (pid, the read end of its pipe
+    for an error message), or None if the fork failed."""
+    r, w = os.pipe()
+    try:
+        pid = os.fork()
+    except OSError:
+        os.close(r)
+        os.close(w)
+        return None
+    if pid == 0:  # the child: its share, then out without Python's exit handlers (the parent's)
+        status = 1
+        try:
+            os.close(r)
+            signal.signal(signal.SIGINT, signal.SIG_IGN)  # (the parent handles a signal once the frames are written)
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)
+            for write in share:
+                write()
+            status = 0
+        except BaseException as e:  # (reported to the parent, whatever it is)
+            os.write(w, f"{type(e).__name__}: {e}".encode()[:4000])
+        finally:
+            os._exit(status)
+    os.close(w)
+    return pid, r
+
+
+def _reap(children):
+    """Waits for every child of _fork_writer, even if interrupted while waiting for one; returns
+    the messages of those that failed."""
+    failed = []
+    for k, (pid, r) in enumerate(children):
+        try:
+            with os.fdopen(r, "rb") as f:
+                msg = f.read().decode(errors="replace")
+            code = os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+        except BaseException:
+            for pid_, r_ in children[k + 1:]:
+                os.close(r_)
+            for pid_, _ in children[k:]:
+                try:
+                    os.waitpid(pid_, 0)
+                except ChildProcessError:
+                    pass
+            raise
+        if code != 0:
+            failed.append(msg or (f"killed by signal {-code}" if code < 0 else f"exit status {code}"))
+    return failed
 
 
 def write_vtk_snapshot(folder, name, parts=None):
@@ -586,11 +620,13 @@ class VtkRecorder(_Periodic):
     in later frames with broken = 1. See the module docstring for the groups and their data.
 
     workers: processes that write the files (default 1: each frame is written when it is called).
-    With more (a run on several threads, O.numThreads), a call takes the frame's data and builds
-    what reads the bodies themselves, and the files of `batch` frames at a time are then built and
+    With more (a run on several threads and CPUs), a call takes the frame's data and builds what
+    reads the bodies themselves, and the files of `batch` frames at a time are then built and
     written by that many processes (this one and children forked for them) while the scene waits:
-    the same files, the .pvd updated after each batch. Call flush() at the end (and before reading
-    the files); the frames still waiting are listed in `pending`."""
+    the same files, the .pvd updated after each batch; the paths a call returns then exist once
+    its batch is written. Call flush() at the end (and before reading the files); the frames still
+    waiting are listed in `pending`. A batch that fails raises; its frames are lost (their numbers
+    are not used again)."""
 
     def __init__(self, folder, prefix="flex", every=1, time_origin=0.0, parts=None, workers=1, batch=8):
         super().__init__(every)
@@ -601,6 +637,7 @@ class VtkRecorder(_Periodic):
                 raise ValueError(f"{what} must be a positive whole number, got {v!r}")
         self.workers, self.batch = workers, batch
         self.pending = []  # frames taken, not written yet: (scene time [s], iteration, {group: file name}, [(cost, write)])
+        self._taken = 0  # frames taken (written, waiting or lost in a batch that failed)
         self.folder = folder
         self.prefix = _check_name("prefix", prefix)
         self.time_origin = float(time_origin)
@@ -639,7 +676,8 @@ class VtkRecorder(_Periodic):
         broken = self._broken()
         for g in broken:
             groups.setdefault(g, [])
-        k = len(self.frames) + len(self.pending)
+        k = self._taken
+        self._taken += 1
         files = {}
         t = float(O.time) - self.time_origin
         stamp = (float(O.time), O.iter)

@@ -406,12 +406,13 @@ def _recorded_run(folder, workers, batch):
 
 def test_vtk_frames_written_by_several_processes_are_the_same_files(scene, tmp_path, monkeypatch):
     """workers > 1: the frames are taken at each call and written a batch at a time by that many
-    processes; the files (every group, the empty ones, the broken element, the .pvd) are those
-    one process writes at each call, byte for byte. Until a batch is written the .pvd lists only
+    processes; the files (every group, the empty ones, the broken element, also when the frame
+    that last held it whole was still waiting, the .pvd) are those one process writes at each
+    call, byte for byte. Until a batch is written the .pvd lists only
     the frames written; a child's failure raises."""
     one = _recorded_run(str(tmp_path / "one"), 1, 1)
     O.reset()
-    two = _recorded_run(str(tmp_path / "two"), 2, 3)
+    two = _recorded_run(str(tmp_path / "two"), 2, 4)  # (frame 2, the bar still whole, waits while it ruptures)
     files = sorted(os.listdir(tmp_path / "one"))
     assert files == sorted(os.listdir(tmp_path / "two")) and len(files) > 30
     assert {f.split("_")[1] for f in files if f.endswith(".vtu")} >= {"nodes", "cylinders", "spheres", "clumps", "contacts"}

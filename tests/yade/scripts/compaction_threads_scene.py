@@ -24,7 +24,7 @@ for name, every in (("off", 0), ("on", 1)):
     loop.compactEvery = every
     before = len(contacts())
     O.step()
-    rows = sorted([i.id1, i.id2, i.geom.penetrationDepth, *i.geom.normal, *i.geom.contactPoint, *i.phys.normalForce, *i.phys.shearForce]
-                  for i in contacts())
+    rows = sorted([i.id1, i.id2, i.geom.penetrationDepth, i.geom.plasticOverlap, *i.geom.normal, *i.geom.contactPoint, *i.phys.normalForce,
+                   *i.phys.shearForce, i.phys.kn, i.phys.ks] for i in contacts())
     out[name] = dict(rows=rows, before=before, compacted=loop.compactedContacts, interactions=len(O.interactions), threads=O.numThreads)
 print("COMPACT " + json.dumps(out))
