@@ -104,7 +104,7 @@ void FlexInteractionLoop::action()
 	}
 	Step step(*this);
 	if (compactEvery > 0 && (scene->iter - lastCompact >= compactEvery || scene->iter < lastCompact)) {
-		compactedContacts = compactContacts(&(*scene->interactions)[0], (long)scene->interactions->size(), step.threads);
+		compactedContacts = compactContacts(&(*scene->interactions)[0], (long)scene->interactions->size(), step.threads, compactedBlocks);
 		lastCompact       = scene->iter;
 	}
 	step.findReaders();

@@ -65,16 +65,20 @@ namespace flexa {
 		}
 		// All contacts of intrs[0, n); on several threads (from tuning::kCompactParallelMin
 		// interactions) each thread copies one contiguous part of the container into its own block,
-		// in the order of the container as on one thread. The count copied; the first exception
-		// goes on once every thread has stopped.
-		inline long compactContacts(const shared_ptr<Interaction>* intrs, long n, int threads)
+		// in the order of the container as on one thread. The count copied (blocks: the blocks
+		// filled); the first exception goes on once every thread has stopped.
+		inline long compactContacts(const shared_ptr<Interaction>* intrs, long n, int threads, long& blocks)
 		{
-			if (threads < 2 || n < tuning::kCompactParallelMin) return compactRange(intrs, 0, n);
-			long               count = 0;
+			if (threads < 2 || n < tuning::kCompactParallelMin) {
+				const long count = compactRange(intrs, 0, n);
+				blocks           = count > 0;
+				return count;
+			}
+			long               count = 0, filled = 0;
 			std::exception_ptr error;
 			std::mutex         errorMutex;
 #ifdef YADE_OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : count)
+#pragma omp parallel num_threads(threads) reduction(+ : count, filled)
 #endif
 			{
 				int t = 0, nt = 1;
@@ -83,12 +87,15 @@ namespace flexa {
 				nt = omp_get_num_threads();
 #endif
 				try {
-					count += compactRange(intrs, n * t / nt, n * (t + 1) / nt);
+					const long mine = compactRange(intrs, n * t / nt, n * (t + 1) / nt);
+					count += mine;
+					filled += mine > 0;
 				} catch (...) {
 					const std::lock_guard<std::mutex> lock(errorMutex);
 					if (!error) error = std::current_exception();
 				}
 			}
+			blocks = filled;
 			if (error) std::rethrow_exception(error);
 			return count;
 		}

@@ -1,30 +1,40 @@
-# Run by test_threads.py in yade-double -j2: the reduced damping module a few hundred steps into
-# its impact; one step from that state with the loop's copy of the contacts off (compactEvery 0)
-# and at that step (compactEvery 1, on every thread from 1024 interactions). Prints, per setting,
-# the contacts it could copy before the step, the count it copied and every contact's geometry and
-# physics after the step as JSON. Argument: the folder of the filled module (the tests' cache).
+# Run by test_threads.py in yade-double -j2: FlexInteractionLoop's copy of the contacts
+# (compactEvery) on a bed of spheres (sphere_bed: more than 4096 interactions, contacts over the
+# whole container). Per setting, compactEvery 0 and 1: the bed built, one step with the loop on one
+# thread (the same state in both), then one step on every thread with the collider left out, so
+# that the copy sees the container listed here, each thread its part n t / 2 to n (t + 1) / 2.
+# Prints the contacts it could copy in each part, the count and blocks it copied and every
+# contact's geometry and physics after the step as JSON.
 import json
-import sys
 
 from yade import O
 
-from module_state import reduced_impact
+import yadeflex as yf
+from sphere_bed import sphere_bed
 
 
-def contacts():
-    return [i for i in O.interactions.all(False) if type(i.geom).__name__ == "FlexContactGeom" and type(i.phys).__name__ == "FrictPhys"]
+def movable(i):
+    return type(i.geom).__name__ == "FlexContactGeom" and type(i.phys).__name__ == "FrictPhys"
 
 
-reduced_impact(sys.argv[1])
-O.saveTmp("compaction")
 out = {}
 for name, every in (("off", 0), ("on", 1)):
-    O.loadTmp("compaction")
-    loop = [e for e in O.engines if e.label == "interactionLoop"][0]
+    sphere_bed()
+    O.engines = yf.engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5)
+    loop = next(e for e in O.engines if e.label == "interactionLoop")
+    loop.compactEvery = 0
+    loop.ompThreads = 1
+    O.dt = 1e-9
+    O.step()
+    loop.ompThreads = -1
     loop.compactEvery = every
-    before = len(contacts())
+    next(e for e in O.engines if e.label == "collider").dead = True
+    listed = O.interactions.all(False)
+    n = len(listed)
+    parts = [sum(movable(i) for i in listed[n * t // 2:n * (t + 1) // 2]) for t in (0, 1)]
     O.step()
     rows = sorted([i.id1, i.id2, i.geom.penetrationDepth, i.geom.plasticOverlap, *i.geom.normal, *i.geom.contactPoint, *i.phys.normalForce,
-                   *i.phys.shearForce, i.phys.kn, i.phys.ks] for i in contacts())
-    out[name] = dict(rows=rows, before=before, compacted=loop.compactedContacts, interactions=len(O.interactions), threads=O.numThreads)
+                   *i.phys.shearForce, i.phys.kn, i.phys.ks] for i in O.interactions.all(False) if movable(i))
+    out[name] = dict(rows=rows, before=sum(parts), parts=parts, compacted=loop.compactedContacts, blocks=loop.compactedBlocks, interactions=n,
+                     threads=O.numThreads)
 print("COMPACT " + json.dumps(out))

@@ -4,26 +4,13 @@ as action() makes it) and the number of pairs it left out, then, after the step,
 again (critical()) and the serial list of the pairs left out, as JSON after 'EST '.
 Run: yade-double -n -jN -x stepper_threads_scene.py"""
 import json
-import random
 
-from yade import O, Vector3
-from yade.wrapper import FrictMat
+from yade import O
 
 import yadeflex as yf
-from yadeflex.module import _sphere_body
+from sphere_bed import sphere_bed
 
-random.seed(3)
-O.reset()
-mat = FrictMat(young=1e8, poisson=0.3, density=2650, frictionAngle=0.6)
-O.materials.append(mat)
-n = 0
-for i in range(14):
-    for j in range(14):
-        for k in range(10):
-            r = random.uniform(0.009, 0.011)
-            x = Vector3(0.02 * i + random.uniform(-1e-3, 1e-3), 0.02 * j + random.uniform(-1e-3, 1e-3), 0.02 * k + 0.011)
-            _sphere_body(x, r, mat)
-            n += 1
+n = sphere_bed()
 O.engines = yf.engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=0.5)
 O.dt = 1e-9
 O.step()  # the collider finds the pairs; FlexTimeStepper makes its estimate and marks
