@@ -39,9 +39,9 @@
 // (FlexContactGeom with FrictPhys) are copied into one block of memory in the order of the
 // container (on several threads, each thread one contiguous part into a block of its own), which
 // pass 2 follows: it reads them as one stream instead of from addresses the allocator scattered
-// as contacts came and went. The copies are exact. An object that Python or
-// another interaction also holds (use_count > 1) stays where it is, so that a reference held
-// from Python stays the live object. Each copy is released on its own; the block with its last.
+// as contacts came and went. The copies are exact. An object that Python or another interaction
+// also holds (use_count > 1) stays where it is, so that a reference held from Python stays the
+// live object. Each copy is released on its own; the block with its last.
 //
 // On several threads, each thread takes one contiguous run of blocks, split so that each
 // thread's blocks took about as long on the last step, then blocks left at the back of the other

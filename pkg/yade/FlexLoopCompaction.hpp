@@ -1,6 +1,6 @@
 // yade-flex adapter: FlexInteractionLoop's compaction of the contacts (compactEvery): copies of
-// their geometry and physics side by side in one block of memory (one per thread), in the order the
-// loop visits them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
+// their geometry and physics side by side in one block of memory (one per thread), in the order
+// the loop visits them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
 #pragma once
 #include "Flex.hpp"
 #include "FlexTuning.hpp"
@@ -38,9 +38,8 @@ namespace flexa {
 		}
 		// the contacts of intrs[lo, hi) into a block of their own (one allocation: while a thread
 		// fills its block, that block's count of owners is touched by that thread only); the count
-		// copied. A failed
-		// allocation of a shared_ptr's count runs the deleter and leaves the interaction with its
-		// old object, and the exception goes on.
+		// copied. A failed allocation of a shared_ptr's count runs the deleter and leaves the
+		// interaction with its old object, and the exception goes on.
 		inline long compactRange(const shared_ptr<Interaction>* intrs, long lo, long hi)
 		{
 			long count = 0;
