@@ -14,6 +14,13 @@
 // work of gravity -m g.v dt, and on free DOFs the damping work c dt sum |v_i| |F_i + m g_i| (+
 // the rotational terms). Blocked DOFs are not damped, so nothing is booked there.
 //
+// Driven DOFs: a blocked DOF keeps the velocity the user or an engine gave it, whatever the
+// forces (an indenter, a plate, a pulled edge). Whatever holds it supplies the force that
+// cancels the rest, -(F_i + m g_i), and so does the work -(F_i + m g_i) v_i dt on the scene in
+// the step (v_i unchanged: the mid-step velocity the position moves with). driveWork books
+// minus that work, in gravWork's sign (a stored or lost energy is positive, work put in
+// negative), so that the balance of a driven test closes as that of a free impact does.
+//
 // Degrees of freedom: bit `axis` for translation, bit 3 + axis for rotation (YADE's
 // State::axisDOF); kAllDofs: all six blocked.
 #pragma once
@@ -61,6 +68,18 @@ struct BodyDofs {
 	unsigned    blocked; // dofBit()s of the blocked DOFs
 	bool        damped;  // State::isDamped
 };
+
+/// Minus the work the drive of the blocked DOFs does this step [J] (0 for a free body or a
+/// blocked body at rest): sum over blocked DOFs of (F_i + m g_i) v_i dt + M_i omega_i dt.
+inline double driveWork(const Vec3& f, const Vec3& m, const BodyDofs& b, const LeapFrogSettings& s)
+{
+	double e = 0;
+	for (int i = 0; i < 3; ++i) {
+		if ((b.blocked & dofBit(i, false)) && b.vel[i] != 0) e += (f[i] + b.mass * s.gravity[i]) * b.vel[i];
+		if ((b.blocked & dofBit(i, true)) && b.angVel[i] != 0) e += m[i] * b.angVel[i];
+	}
+	return e * s.dt;
+}
 
 /// Damping work of this step on the free DOFs [J] (0 for an undamped body or c = 0).
 inline double dampingWork(const Vec3& f, const Vec3& m, const BodyDofs& b, const LeapFrogSettings& s)

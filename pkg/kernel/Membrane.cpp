@@ -65,13 +65,17 @@ MembraneResult membraneForces(const Vec3 x[3], const MembraneRest& rest, const M
 	res.f[2]                            = H.col(1);
 	res.f[0]                            = -(res.f[1] + res.f[2]);
 	res.energy                          = rest.A0 * W;
-	// Cauchy membrane forces: eigenvalues of F S F^T / J = those of S C / J, J = sqrt(det C)
-	const Eigen::Matrix2d SC = S * C;
-	const double          J  = std::sqrt(std::max(0.0, C.determinant()));
-	const double          tr = SC.trace(), det = SC.determinant();
-	const double          disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
-	res.n1                     = J > 0 ? (0.5 * tr + disc) / J : 0;
-	res.n2                     = J > 0 ? (0.5 * tr - disc) / J : 0;
+	// Principal membrane forces per unit REST width (nominal, first Piola-Kirchhoff P = F S): S
+	// is coaxial with E for this isotropic law, so along E's principal directions v_i the force
+	// per rest width is lambda_i s_i, lambda_i = sqrt(1 + 2 e_i), s_i = v_i^T S v_i. It is what a
+	// strip tensile test reports (force over the strip's initial width), and it stays finite when
+	// the fabric folds: the Cauchy force per CURRENT width, lambda_1 s_1 / lambda_2, grows without
+	// bound as the folded width lambda_2 goes to zero although the fabric carries no more load.
+	const Eigen::Vector2d v2(-v1[1], v1[0]);
+	const double          s1 = v1.dot(S * v1), s2 = v2.dot(S * v2);
+	res.n1                   = std::sqrt(std::max(0.0, 1 + 2 * res.e1)) * s1;
+	res.n2                   = std::sqrt(std::max(0.0, 1 + 2 * res.e2)) * s2;
+	if (res.n2 > res.n1) std::swap(res.n1, res.n2);
 	res.rupture                = res.n1 >= law.strength;
 	return res;
 }

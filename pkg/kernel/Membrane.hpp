@@ -26,7 +26,7 @@ struct MembraneLaw {
 	double Et          = 0;                                       ///< tensile stiffness E t [N/m]
 	double nu          = 0;                                       ///< Poisson ratio [-]
 	bool   tensionOnly = false;                                   ///< wrinkling fabric: no compression
-	double strength    = std::numeric_limits<double>::infinity(); ///< rupture at this principal membrane force [N/m]
+	double strength    = std::numeric_limits<double>::infinity(); ///< rupture at this principal membrane force per rest width [N/m]
 };
 
 struct MembraneRest {
@@ -39,9 +39,9 @@ MembraneRest makeMembraneRest(const Vec3& x1, const Vec3& x2, const Vec3& x3);
 struct MembraneResult {
 	Vec3   f[3];            ///< forces on the nodes [N]
 	double energy = 0;      ///< elastic energy A0 W [J]
-	double n1 = 0, n2 = 0;  ///< principal membrane forces per current width (Cauchy) [N/m]
+	double n1 = 0, n2 = 0;  ///< principal membrane forces per unit rest width (nominal) [N/m]
 	double e1 = 0, e2 = 0;  ///< principal Green strains [-]
-	bool   rupture = false; ///< n1 reached the strength
+	bool   rupture = false; ///< n1 reached the strength (a fold or wrinkle never raises n1)
 };
 MembraneResult membraneForces(const Vec3 x[3], const MembraneRest& rest, const MembraneLaw& law);
 

@@ -96,16 +96,19 @@ template <class Mesh> inline Hit probe(const Mesh& mesh, const ElementNodes& e, 
 	return Hit();
 }
 
-/// Two contacts of one probe on elements sharing a node are LINKED when the closest point on
-/// either lies on what the two share (the cap region at a chain's shared node, a facet's shared
-/// edge or vertex), or when their normals are within 15 degrees (the concave side of a nearly
-/// straight chain or a nearly flat membrane: the contact patches merge). Otherwise both count:
-/// a sphere resting on a net cell touches its four wires, a sphere in a sharp kink both legs.
-/// The links are closed transitively (a pairwise rule, "lose to a linked neighbour with a larger
-/// overlap", is not transitive: in a shallow dent A > B > C with A-B and B-C linked but not A-C,
-/// C is suppressed by B, which itself is inactive, and C's contact later appears with a finite
-/// overlap). A cluster splits or merges only when a link changes while both sides overlap.
-constexpr double kMergeCos   = 0.96592582628906831; // cos(15 deg)
+/// Two contacts of one probe on elements sharing a node are LINKED (the same contact) when the
+/// closest point on either lies on what the two share: the cap region at a chain's shared node,
+/// a facet's shared edge or vertex. There the two elements touch the probe at the same point
+/// with the same overlap (bit for bit: the same node), so a hand-over between them passes on
+/// the same overlap. Contacts at distinct points always count, however close their normals: a
+/// sphere resting on a net cell touches its four wires, a boulder on a mesh the many legs it
+/// presses, a wire wrapped around a boulder each of its links (a line contact, carried link by
+/// link). A normal-angle criterion would merge those into one and hand the force from leg to
+/// leg at finite overlaps, creating and destroying spring energy at every hand-over. The links
+/// are closed transitively (a pairwise rule, "lose to a linked neighbour with a larger overlap",
+/// is not transitive: with A > B > C, A-B and B-C linked but not A-C, C is suppressed by B, which
+/// itself is inactive, and C's contact later appears with a finite overlap).
+constexpr double kMergeCos   = 0.96592582628906831; // cos(15 deg): element pairs (ownsPair)
 constexpr int    kMaxCluster = 48;
 /// Whether the closest point h lies on what elements a and b share (every node of its support
 /// belongs to both: a shared node, edge or vertex).
@@ -167,7 +170,7 @@ inline bool ownsCluster(const Mesh& mesh, const ElementNodes& self, int selfId, 
 					continue;
 				}
 				const double near   = std::min(cur.e.radius, oe.radius);
-				const bool   linked = onShared(cur.h, cur.e, oe) || onShared(oh, cur.e, oe) || cur.n.dot(on) > kMergeCos
+				const bool   linked = onShared(cur.h, cur.e, oe) || onShared(oh, cur.e, oe)
 				        || ((cur.n.squaredNorm() == 0 || on.squaredNorm() == 0) && (cur.h.point - oh.point).squaredNorm() < near * near);
 				if (!linked) continue; // may still join through another member
 				if (nSeen < 4 * kMaxCluster) seen[nSeen++] = other;

@@ -19,9 +19,10 @@
 //
 // Ownership (one contact where elements meet): a contact with element E is dropped if an
 // element sharing a node with E has the SAME contact with a larger overlap (ties: lower body
-// id wins). Same contact: one of the two closest points is the shared node (the cap region),
-// or the two normals are within 15 degrees (concave side of a nearly straight chain).
-// Distinct contacts on neighbours (a sphere on a net cell touching its four wires) all count.
+// id wins). Same contact: one of the two closest points lies on what the two share (a chain's
+// shared node, a facet's shared edge or vertex), where both touch at the same point. Distinct
+// contacts on neighbours (a sphere on a net cell touching its four wires, a boulder on the legs
+// of a mesh) all count.
 // Where two segments clamp to the same node the distances are bit-identical and the tie rule
 // picks one. A contact between two elements (a ring on the lining) is decided once per cluster
 // of element PAIRS (flexa::ownsPair: every pair's overlap computed the same way by all of them),
@@ -364,12 +365,14 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	long                  tableRuns = -2, tableErasures = -1;
 	bool                  buildNodeTable();
 	Real                  dampingOnBlockedDofs(); // what NewtonIntegrator books on blocked DOFs this step [J]
+	Real                  driveWork();            // booked for the driven DOFs this step (flex::driveWork) [J]
+	int                   driveWorkIx = -1;
 
 public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexNewtonIntegrator, NewtonIntegrator,
-		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator also books |v||F| c dt on blocked, driven DOFs, where no damping acts; on its fallback to NewtonIntegrator's loop this class takes that share back), clumps included (members' forces summed about the clump's centre, members moved with it); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
+		"NewtonIntegrator for scenes with yade-flex elements. Element bodies (:yref:`FlexCylinder`) carry no DOF: they are skipped (FlexElementEngine keeps their position), and the collider is told to run when either NODE of an element left its bound's sweep (NewtonIntegrator only sees the element's midpoint, which moves half as far as the free end of a swinging element). Same leap-frog, damping and energy terms as NewtonIntegrator (except that local damping is booked in nonviscDamp on free DOFs only: NewtonIntegrator also books |v||F| c dt on blocked, driven DOFs, where no damping acts; on its fallback to NewtonIntegrator's loop this class takes that share back), clumps included (members' forces summed about the clump's centre, members moved with it). The work done by prescribed motion (a blocked DOF moving at the velocity the user or an engine gave it: an indenter, a plate, a pulled edge) is booked as 'driveWork' in O.energy, in gravWork's sign (minus the work put in), so that the energy balance of a driven test closes as that of a free impact (kernel/LeapFrog.hpp); scenes with periodic cells, aspherical bodies (a clump whose inertia is not isotropic is flagged aspherical by YADE), masks or density scaling use NewtonIntegrator's own loop.",
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the fast path"))
 		((bool, prefetch, true, , "On the fast path, ask for the bodies' data a few bodies ahead, when at least 512 bodies move (fewer stay in cache between steps); same results; False: for comparisons"))
 		((int, parallelMin, flexa::tuning::kIntegratorParallelMin, , "Integrate on several threads only from this many bodies on (see FlexElementEngine.parallelMin) [-]"))

@@ -27,7 +27,7 @@ public:
 		((Real, membranePoisson, 0.3, , "Poisson ratio of the membrane, in [0, 0.5) [-]"))
 		((Real, arealDensity, NaN, , "Mass per unit area [kg/m2]"))
 		((bool, tensionOnly, false, , "Fabric that wrinkles: no compression (tension-field model) [-]"))
-		((Real, strength, std::numeric_limits<Real>::infinity(), , "A facet ruptures when its larger principal membrane force reaches this [N/m]")),
+		((Real, strength, std::numeric_limits<Real>::infinity(), , "A facet ruptures when its larger principal membrane force per unit rest width (n1) reaches this: folded or wrinkled fabric at low stretch never does [N/m]")),
 		createIndex();
 	);
 	// clang-format on
@@ -55,8 +55,8 @@ public:
 		((Real, massShare, 0, Attr::readonly, "Mass given to each node [kg]"))
 		((Real, inertiaShare, 0, Attr::readonly, "Rotational inertia given to each node [kg m2] (the membrane puts no moment on its nodes)"))
 		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the facet at rest with its own mass shares [1/s2]; FlexTimeStepper scales it up for the current stretch (a stretched membrane is stiffer)"))
-		((Real, n1, 0, Attr::readonly, "Larger principal membrane force per current width [N/m]"))
-		((Real, n2, 0, Attr::readonly, "Smaller principal membrane force per current width [N/m]"))
+		((Real, n1, 0, Attr::readonly, "Larger principal membrane force per unit rest width (nominal: what a strip tensile test reports; finite when the fabric folds) [N/m]"))
+		((Real, n2, 0, Attr::readonly, "Smaller principal membrane force per unit rest width [N/m]"))
 		((Real, e1, 0, Attr::readonly, "Larger principal Green strain [-]"))
 		((Real, e2, 0, Attr::readonly, "Smaller principal Green strain [-]"))
 		((Real, elasticEnergy, 0, Attr::readonly, "Stored membrane energy [J]"))

@@ -23,13 +23,6 @@ namespace {
 		os << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")";
 		return os.str();
 	}
-
-	Vector3r gravityOf(const Scene* scene)
-	{
-		for (const auto& e : scene->engines)
-			if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n->gravity;
-		return Vector3r::Zero();
-	}
 } // namespace
 
 void FlexGuard::validate() const
@@ -88,32 +81,19 @@ void FlexGuard::refresh()
 	cachedBodyCount = bs.size();
 }
 
-// Work done on the scene by driven DOFs during the step that has just ended. The previous step
-// booked the driven body's kinetic energy (constant while its velocity is) and its gravWork
-// -m g.v dt; the driver, holding v against the scene's force F and gravity, supplies
-// -(F + m g).v dt, which is what the scene's total receives. Rotations: -T.omega dt.
+// External work of permanent forces during the step that has just ended. Driven DOFs (blocked
+// DOFs that move) are booked by the integrator itself, as 'driveWork' in O.energy (minus the
+// work the drive does, kernel/LeapFrog.hpp): they are in O.energy.total() already.
 void FlexGuard::addExternalWork()
 {
 	if (scene->iter == lastWorkIter) return; // once per step
 	lastWorkIter = scene->iter;
 	if (scene->iter == 0) return; // no step has been taken yet
-	const Vector3r g  = gravityOf(scene);
-	Real           dW = 0;
+	Real dW = 0;
 	scene->forces.sync();
-	for (Body::id_t id : driven) {
-		const auto& b = Body::byId(id, scene);
-		if (!b) continue;
-		const State&    st = *b->state;
-		const Vector3r& F  = scene->forces.getForce(id); // includes permanent forces
-		const Vector3r& T  = scene->forces.getTorque(id);
-		for (int i = 0; i < 3; i++) {
-			if (st.blockedDOFs & State::axisDOF(i, false)) dW -= (F[i] + st.mass * g[i]) * st.vel[i];
-			if (st.blockedDOFs & State::axisDOF(i, true)) dW -= T[i] * st.angVel[i];
-		}
-	}
 	// Permanent forces (O.forces.setPermF) are external loads: their work over the last step,
 	// F.(x_{n+1} - x_n) = F.v_{n+1/2} dt, with the velocity the step has just produced. On a
-	// blocked DOF the driver absorbs it: the line above already counts it with the opposite sign.
+	// blocked DOF the drive absorbs it: driveWork counts it with the opposite sign.
 	if (scene->forces.getPermForceUsed())
 		for (Body::id_t id : loaded) {
 			const auto& b = Body::byId(id, scene);
@@ -144,6 +124,13 @@ void FlexGuard::storeVelocities()
 			prevAngVel[b->id] = b->state->angVel;
 		}
 	prevVelIter = scene->iter;
+	prevDrive   = driveWork();
+}
+
+Real FlexGuard::driveWork() const
+{
+	const auto it = scene->energy->names.find("driveWork");
+	return it == scene->energy->names.end() ? Real(0) : Real(scene->energy->energies.get(it->second));
 }
 
 Real FlexGuard::kineticCorrection() const
@@ -184,7 +171,6 @@ void FlexGuard::action()
 		return;
 	}
 	if (scene->bodies->size() != cachedBodyCount) refresh();
-	driven.clear();
 	loaded.clear();
 	scene->forces.sync();
 	checkBodies();
@@ -217,7 +203,6 @@ void FlexGuard::checkBodies()
 		if (!b) continue;
 		const Body::id_t id = b->id;
 		const State&     st = *b->state;
-		if (st.blockedDOFs) driven.push_back(id);
 		if (permUsed && (scene->forces.getPermForce(id) != Vector3r::Zero() || scene->forces.getPermTorque(id) != Vector3r::Zero()))
 			loaded.push_back(id);
 		const Vector3r& F = scene->forces.getForce(id);
@@ -277,7 +262,10 @@ void FlexGuard::checkBodies()
 void FlexGuard::checkEnergy(bool storeNow)
 {
 	const EnergyTracker& en    = *scene->energy;
-	const Real           total = en.total() + kineticCorrection();
+	// the integrator books a driven DOF's work when it moves it, x_n -> x_{n+1}: the step just
+	// taken's share is past the level x_n of the balance, taken back as the external work's is
+	const Real lastDrive = prevVelIter == scene->iter - 1 ? driveWork() - prevDrive : 0;
+	const Real total     = en.total() + kineticCorrection() - lastDrive;
 	if (storeNow) storeVelocities();
 	if (!std::isfinite(total)) fail("O.energy.total() is not finite", {});
 	// O.energy.clear() (or a fresh tracker): start a new balance once a step has booked energy
@@ -300,7 +288,7 @@ void FlexGuard::checkEnergy(bool storeNow)
 	};
 	// both as booked by the integrator in the step just taken (the same half step: the gravity
 	// work that brought the current velocities is booked only in the next step)
-	energyInput = std::max(energyInput, std::abs(energyStart) + std::abs(externalWork) + term("gravWork") + term("flexPressureWork"));
+	energyInput = std::max(energyInput, std::abs(energyStart) + std::abs(externalWork) + term("gravWork") + term("driveWork") + term("flexPressureWork"));
 	kineticSeen = term("kinetic") + term("kinTrans") + term("kinRot");
 	if (energyInput > 0 && kineticSeen > maxKineticRatio * energyInput) {
 		std::ostringstream os;

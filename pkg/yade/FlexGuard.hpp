@@ -11,10 +11,9 @@
 //  3. speed above maxSpeed (off by default);
 //  4. with O.trackEnergy, energy created without external work: the balance residual
 //         R = (O.energy.total() - total at the first check) - W_ext
-//     where W_ext is the work done on the scene by kinematically driven DOFs (blocked DOFs
-//     that move: -(F + m g) . v dt per step, -T . omega dt for rotations, with F, T the
-//     forces the rest of the scene puts on them) and by permanent forces (O.forces.setPermF:
-//     F . v dt), relative to the energy scale
+//     where W_ext is the work done on the scene by permanent forces (O.forces.setPermF:
+//     F . v dt; the work of kinematically driven DOFs, blocked DOFs that move, is in
+//     O.energy as the integrator's 'driveWork'), relative to the energy scale
 //         S = max over the checks so far of (sum_k |E_k| + |W_ext|)
 //     (every term the run has booked, so S >= the impact or initial energy). A blow-up
 //     creates energy that soon dominates every other term, so R / S -> 1; the integration
@@ -22,7 +21,7 @@
 //     timestep safety 0.8: yadeflex.engines). The check fires when R > energyTolerance x S.
 //
 //  5. with O.trackEnergy, the same balance as booked (O.energy.total(), no leap-frog correction)
-//     above rawEnergyTolerance x the energy put in (start, external work, gravity, pressure): past the critical step the velocities alternate in sign and
+//     above rawEnergyTolerance x the energy put in (start, external work, gravity, drives, pressure): past the critical step the velocities alternate in sign and
 //     grow, the corrected kinetic term 1/2 m v-.v+ turns negative and keeps the corrected
 //     balance constant, while the booked one runs away.
 //
@@ -44,7 +43,6 @@ namespace yade {
 
 class FlexGuard : public GlobalEngine {
 	std::vector<Real>       contactRadius; // per body id; +inf: no step check
-	std::vector<Body::id_t> driven;        // bodies with blocked DOFs (kinematic drivers)
 	std::vector<Body::id_t> loaded;        // bodies with a permanent force or torque
 	size_t                  cachedBodyCount = 0;
 	long                    lastWorkIter    = -1;
@@ -56,6 +54,8 @@ class FlexGuard : public GlobalEngine {
 	Real                  lastWorkIncrement = 0, startIncrement = 0;
 	Real                  kineticCorrection() const;
 	void                  storeVelocities();
+	Real                  driveWork() const; // O.energy's driveWork (0 before any drive) [J]
+	Real                  prevDrive = 0;     // driveWork when the velocities were stored [J]
 	void                  refresh();
 	void                  addExternalWork();
 	// the checks of a step: 1-3 over the bodies, 4 on the energy balance (they throw on failure)

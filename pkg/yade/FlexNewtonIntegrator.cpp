@@ -160,6 +160,19 @@ Real FlexNewtonIntegrator::dampingOnBlockedDofs()
 	return sum * damping * scene->dt;
 }
 
+Real FlexNewtonIntegrator::driveWork()
+{
+	const flex::LeapFrogSettings lf { scene->dt, gravity, damping, flex::DampFactors(damping), dampGravity };
+	Real                         sum = 0;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !b->isStandalone() || !b->state->blockedDOFs) continue;
+		State&               st = *b->state;
+		const flex::BodyDofs dofs { st.se3.position, st.vel, st.angVel, st.se3.orientation, st.inertia, st.mass, st.blockedDOFs, st.isDamped };
+		sum += flex::driveWork(scene->forces.getForce(b->id), scene->forces.getTorque(b->id), dofs, lf);
+	}
+	return sum;
+}
+
 void FlexNewtonIntegrator::action()
 {
 	flexa::checkScene(scene, this);
@@ -171,8 +184,10 @@ void FlexNewtonIntegrator::action()
 		// blocked ones too, where no damping acts (a driven DOF): what it will book there, from
 		// the same velocities and forces, is taken back after it ran
 		const Real blockedDamping = scene->trackEnergy && damping != 0 && !scene->isPeriodic ? dampingOnBlockedDofs() : 0;
+		const Real drive          = scene->trackEnergy ? (scene->forces.sync(), driveWork()) : 0;
 		NewtonIntegrator::action();
 		if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
+		if (drive != 0) flexa::addEnergy(scene, drive, "driveWork", driveWorkIx, false);
 		flagElements();
 		// the motions it made, refused as the fast path refuses them (a pass of its own here)
 		for (const auto& b : *scene->bodies)
@@ -204,11 +219,11 @@ void FlexNewtonIntegrator::action()
 	const Body::id_t*            mv       = movers.data();
 	const bool                   pf       = prefetch && n >= flexa::kPrefetchMin; // (small passes stay in cache)
 	const flex::LeapFrogSettings lf { dt, gravity, damping, flex::DampFactors(damping), dampGravity };
-	Real                         eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0;
+	Real                         eDamp = 0, eKinT = 0, eKinR = 0, eGrav = 0, eDrive = 0;
 	long                         nDamp    = 0;
 	long                         firstBad = std::numeric_limits<long>::max(); // the smallest id moved to a non-finite state
 #ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, nDamp) reduction(max : sweepMax) \
+#pragma omp parallel for schedule(static) if (n >= parallelMin) reduction(+ : eDamp, eKinT, eKinR, eGrav, eDrive, nDamp) reduction(max : sweepMax) \
         reduction(min : firstBad)
 #endif
 	for (long k = 0; k < n; ++k) {
@@ -257,6 +272,7 @@ void FlexNewtonIntegrator::action()
 			eKinT += 0.5 * st->mass * st->vel.squaredNorm();
 			eKinR += 0.5 * st->angVel.dot(st->inertia.cwiseProduct(st->angVel));
 			eGrav += -gravity.dot(st->vel) * st->mass * dt;
+			if (blocked) eDrive += flex::driveWork(f, m, dofs, lf);
 		}
 		flex::leapFrog(f, m, dofs, lf);
 		if (!flexa::motionValid(*st)) firstBad = std::min(firstBad, long(id));
@@ -280,6 +296,7 @@ void FlexNewtonIntegrator::action()
 			flexa::addEnergy(scene, eKinR, "kinRot", kinEnergyRotIx, true);
 		}
 		flexa::addEnergy(scene, eGrav, "gravWork", fieldWorkIx, false);
+		if (eDrive != 0) flexa::addEnergy(scene, eDrive, "driveWork", driveWorkIx, false);
 	}
 	maxVelocitySq = sweepMax;
 	if (byNode)

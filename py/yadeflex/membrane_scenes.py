@@ -211,3 +211,39 @@ def foppl_hencky_centre_deflection(pressure, radius, stiffness, poisson, steps=4
         if hi / lo - 1 < 1e-12:
             break
     return w
+
+
+def hanging_fabric(n=8, size=0.5, thickness=0.002):
+    """A square of geotextile (yadeflex.geotextile: tension-only, 40 kN/m strength), n x n cells
+    of size [m], held along one edge (y = 0) and released flat (horizontal, z = 0) under gravity:
+    it swings down, folds over and wrinkles while it carries only its own weight (tens of N/m at
+    most). No damping."""
+    C.integer("n", n, 1, 200)
+    _positive("size", size)
+    _positive("thickness", thickness)
+    O.reset()
+    mat = M.geotextile()
+    sh = M.sheet(n, n, (size, size), thickness, mat, fix_border=False)
+    held = [col[0] for col in sh["grid"]]
+    fix(held)
+    O.engines = engines(damping=0.0)
+    return dict(sheet=sh, held=held, params=dict(n=n, size=size, thickness=thickness))
+
+
+def driven_indenter(n=8, size=0.8, speed=0.3, radius=0.1, thickness=0.002):
+    """A rigid sphere of radius [m] held in every degree of freedom and driven down at speed
+    [m/s] (a prescribed motion: an indenter or plate) into the centre of a square geotextile
+    sheet (n x n cells of size [m], border clamped), from just above it. The drive's work is
+    O.energy['driveWork'] (minus the work put in)."""
+    C.integer("n", n, 1, 200)
+    _positive("size", size)
+    _positive("radius", radius)
+    _positive("thickness", thickness)
+    C.number("speed", speed, C.Range(0.0, 100.0, "m/s"))
+    O.reset()
+    sh = M.sheet(n, n, (size, size), thickness, M.geotextile())
+    s = sphere((0.5 * size, 0.5 * size, radius + 0.5 * thickness + 1e-4), radius, density=7850.0, young=1e8)
+    fix([s])
+    O.bodies[s].state.vel = Vector3(0, 0, -speed)  # held in every DOF, moved at this speed
+    O.engines = engines(damping=0.0)
+    return dict(sheet=sh, indenter=s, params=dict(n=n, size=size, speed=speed, radius=radius, thickness=thickness))

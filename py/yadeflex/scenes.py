@@ -204,3 +204,44 @@ def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=
                 params=dict(drop=drop, length=length, segments=segments, radius=radius, element_young=element_young,
                             contact_young=contact_young, support_radius=support_radius, friction_deg=friction_deg,
                             timestep_safety=timestep_safety, timestep_interval=timestep_interval))
+
+
+def mesh_punch(size=1.0, boulder_mass=100.0, boulder_radius=0.2, velocity=(0, 0, -4.0), contact_young=1e8, edge="held",
+               friction_deg=30.0, gap=0.004, timestep_safety=None, wire=None):
+    """A TECCO G65/3 chain-link panel size x size m (yadeflex.tecco_wire, shared-node knots) in
+    the plane z = 0, hit at its centre by a rigid sphere of boulder_mass [kg] and boulder_radius
+    [m] (contact modulus contact_young [Pa], friction_deg [deg]) moving at velocity [m/s] from
+    gap [m] above the wires; no damping, gravity. edge 'held': every edge node clamped; 'rope':
+    the edge nodes joined in order by a 6x7 8 mm steel rope (yadeflex.rope_6x7_8mm) held at the
+    panel's four corners. timestep_safety: the engines' (None: their default); wire: the mesh's
+    wire material (None: tecco_wire())."""
+    from .materials import rope_6x7_8mm
+    from .mesh import chain_link_panel, panel_counts
+    from .wire import tecco_wire
+    panel_counts(B._positive("size", size), size)  # (the panel's own checks, before O is reset)
+    for name, v, rng in (("boulder_mass", boulder_mass, C.Range(0.0, unit="kg", lo_open=True)),
+                         ("boulder_radius", boulder_radius, C.Range(0.0, unit="m", lo_open=True)),
+                         ("contact_young", contact_young, MODULUS), ("friction_deg", friction_deg, FRICTION_DEG), ("gap", gap, C.Range(0.0, unit="m"))):
+        C.number(name, v, rng)
+    C.choice("edge", edge, ("held", "rope"))
+    v = B.check_finite("velocity", velocity)
+    args = engine_args(damping=0.0) if timestep_safety is None else engine_args(damping=0.0, timestep_safety=timestep_safety)
+    O.reset()
+    p = chain_link_panel(size, size, tecco_wire() if wire is None else wire)
+    W, H = p["params"]["width"], p["params"]["height"]
+    e = p["edges"]
+    rope = []
+    if edge == "held":
+        B.fix(sorted({n for side in e.values() for n in side}))
+    else:
+        ring = list(dict.fromkeys(e["bottom"] + e["right"] + e["top"][::-1] + e["left"][::-1]))  # around, each node once
+        mat = rope_6x7_8mm()
+        rope = [B.cylinder(a, b, 0.004, mat) for a, b in zip(ring, ring[1:] + ring[:1])]
+        B.fix([n for n in ring if O.bodies[n].state.pos[0] in (0.0, W) and O.bodies[n].state.pos[1] in (0.0, H)])
+    density = boulder_mass / (4.0 / 3.0 * math.pi * boulder_radius ** 3)
+    s = sphere((0.5 * W, 0.5 * H, boulder_radius + p["params"]["wire_radius"] + gap), boulder_radius, density=density, young=contact_young,
+               friction_deg=friction_deg, velocity=v)
+    O.engines = engines(gravity=args[0], damping=0.0, timestep_safety=args[2])
+    return dict(panel=p, rope=rope, boulder=s, params=dict(size=size, boulder_mass=boulder_mass, boulder_radius=boulder_radius,
+                                                           velocity=tuple(v), contact_young=contact_young, edge=edge,
+                                                           friction_deg=friction_deg, gap=gap))

@@ -55,9 +55,9 @@ TEST(Membrane, UniformBiaxialStretchIsExact)
 	const double         Sx = k * (ex + kLaw.nu * ey), Sy = k * (ey + kLaw.nu * ex);
 	const MembraneResult r = membraneForces(x, rest, kLaw);
 	EXPECT_TRUE(close(r.energy, 0.5 * rest.A0 * (Sx * ex + Sy * ey), 1e-13));
-	// Cauchy membrane forces per current width: S scaled by lambda / other lambda
-	EXPECT_TRUE(close(r.n1, Sx * lx / ly, 1e-13));
-	EXPECT_TRUE(close(r.n2, Sy * ly / lx, 1e-13));
+	// membrane forces per rest width (a strip test's force over its initial width): lambda S
+	EXPECT_TRUE(close(r.n1, Sx * lx, 1e-13));
+	EXPECT_TRUE(close(r.n2, Sy * ly, 1e-13));
 	// nodal forces of a constant stress: edge tractions. Node 2 (at (0.3 lx, 0)): the stress
 	// acting over the two edges meeting there, -A0 F S grad N2 with grad N2 = (1/0.3, 0)
 	EXPECT_TRUE(close(r.f[1], Vec3(-rest.A0 * lx * Sx / 0.3, 0, 0), 1e-13));
@@ -129,7 +129,7 @@ TEST(Membrane, TensionOnlyWrinklesAndSlackens)
 	const MembraneResult r     = membraneForces(xw, rest, law);
 	EXPECT_TRUE(close(r.energy, 0.5 * rest.A0 * law.Et * e1 * e1, 1e-13));
 	EXPECT_NEAR(r.n2, 0, 1e-9);
-	EXPECT_TRUE(close(r.n1, law.Et * e1 * lx / ly, 1e-13));
+	EXPECT_TRUE(close(r.n1, law.Et * e1 * lx, 1e-13));
 }
 
 TEST(Membrane, RuptureAtStrength)
@@ -142,6 +142,30 @@ TEST(Membrane, RuptureAtStrength)
 	const Vec3         above[3] = { X[0], Vec3(1.03, 0, 0), Vec3(0, 1, 0) }; // ~ 680 N/m
 	EXPECT_FALSE(membraneForces(below, rest, law).rupture);
 	EXPECT_TRUE(membraneForces(above, rest, law).rupture);
+}
+
+TEST(Membrane, FoldedFacetNeverRuptures)
+{
+	// one edge stretched by 1e-4 while the third node folds onto that edge, down to lying flat
+	// on it: the fabric carries Et e1 lambda1 per rest width (the strength's measure), however
+	// little width remains (the force per current width would grow as 1/width)
+	MembraneLaw law         = kLaw;
+	law.tensionOnly         = true;
+	law.strength            = 40e3; // N/m, the geotextile's
+	const Vec3         X[3] = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.8, 0) };
+	const MembraneRest rest = makeMembraneRest(X[0], X[1], X[2]);
+	const double       lx = 1 + 1e-4, e1 = 0.5 * (lx * lx - 1);
+	for (double left : { 1.0, 0.5, 0.1, 0.025, 1e-3, 0.0 }) {
+		const Vec3           x[3] = { X[0], Vec3(lx, 0, 0), Vec3(0.5 * lx, 0.8 * left, 0) };
+		const MembraneResult r    = membraneForces(x, rest, law);
+		EXPECT_FALSE(r.rupture) << "width left " << left;
+		// taut with the width held (left = 1): k e1 lambda1, k = Et / (1 - nu^2); folded
+		// (wrinkled, e2 < -nu e1): the uniaxial Et e1 lambda1, whatever width is left
+		if (left == 1.0)
+			EXPECT_TRUE(close(r.n1, law.Et / (1 - law.nu * law.nu) * e1 * lx, 1e-12));
+		else
+			EXPECT_TRUE(close(r.n1, law.Et * e1 * lx, 1e-12)) << "width left " << left << ": n1 " << r.n1;
+	}
 }
 
 namespace {
