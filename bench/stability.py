@@ -33,7 +33,7 @@ import yade  # noqa: E402
 from yade import O  # noqa: E402
 
 from yadeflex.module import ModuleParams  # noqa: E402
-from yadeflex.stability import cantilever, net, sheet, panel, module, run_case, stable, BLOWUP, COLS  # noqa: E402
+from yadeflex.stability import cantilever, net, sheet, panel, punch, fabric, indenter, module, run_case, stable, BLOWUP, COLS  # noqa: E402
 
 ACCURATE = 0.05     # margins also give the largest factor up to which every |residual| stays below this
 FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)
@@ -228,6 +228,11 @@ def main():
                      ("net", "5 m/s", functools.partial(net, 5.0, t_end=0.01 if q else 0.03)),
                      ("sheet", "drop 10 mm", functools.partial(sheet, t_end=0.05 if q else 0.15)),
                      ("panel", "0.5 m, to rupture", functools.partial(panel)),
+                     ("punch", "bare mesh, 100 kg at 4 m/s", functools.partial(punch, 1e8, "held", 0.03 if q else 0.06)),
+                     ("punch", "bare mesh, contact 2e10 Pa", functools.partial(punch, 2e10, "held", 0.03 if q else 0.06)),
+                     ("punch", "rope-edged mesh", functools.partial(punch, 1e8, "rope", 0.03 if q else 0.06)),
+                     ("fabric", "hanging, folds over", functools.partial(fabric, 0.2 if q else 0.4)),
+                     ("indenter", "driven at 0.3 m/s", functools.partial(indenter, 0.1 if q else 0.25)),
                      ("module small", "4.43 m/s", functools.partial(module, True, None, 0.03 if q else 0.08))]
         for scene, params, build in dt_scenes:
             print(f"-- {scene} {params}", flush=True)
