@@ -86,9 +86,14 @@ def test_hanging_fabric_folds_without_tearing(scene):
 # A rigid sphere held in every DOF, driven down at 0.3 m/s into a clamped membrane: the drive's
 # work is booked ('driveWork'), so the balance of the indentation closes as a free impact's
 # does, to 1% of the energy the drive and gravity put in, which went into the membrane.
-def test_driven_indenter_books_its_work(scene):
+@pytest.mark.parametrize("path", ["fast", "fallback"])
+def test_driven_indenter_books_its_work(scene, path):
     s = membrane_scenes.driven_indenter()
+    if path == "fallback":  # an aspherical body sends FlexNewtonIntegrator to NewtonIntegrator's own loop
+        O.bodies[s["indenter"]].aspherical = True
     worst, _, _, _ = _balance(0.25)
+    newton = next(e for e in O.engines if e.label == "newton")
+    assert newton.usedFastPath == (path == "fast")
     # the drive holds the indenter's weight too: what it and gravity put in together
     put_in = -(O.energy["driveWork"] + O.energy["gravWork"])
     assert O.bodies[s["indenter"]].state.pos[2] < 0.1 - 0.07, "the indenter did not travel"
