@@ -73,11 +73,15 @@ def scene():
 
 def run_yade(script, threads=1, args=(), timeout=600, display=False):
     """Run a script in yade-double with `threads` OpenMP threads; return its stdout.
-    display: with YADE's Qt GUI on a virtual X server (xvfb-run), for the 3D view."""
+    display: with YADE's Qt GUI on a virtual X server of its own (yadeflex.xdisplay), for the 3D view."""
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), PYTHONPATH=os.path.join(REPO, "py") + os.pathsep + HERE)
-    gui = ["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", "yade-double"] if display else ["yade-double", "-n"]
-    cmd = [*gui, "-j", str(threads), "-x", script, *map(str, args)]
-    res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
+    cmd = ["yade-double", *([] if display else ["-n"]), "-j", str(threads), "-x", script, *map(str, args)]
+    if display:
+        from yadeflex.xdisplay import virtual_display
+        with virtual_display(1024, 768) as d:
+            res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=d), cwd=REPO)
+    else:
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=REPO)
     if res.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({res.returncode}):\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}")
     return res.stdout

@@ -2,7 +2,7 @@
 offscreen, each part in its colour (yadeflex.parts.COLORS).
 
 Needs pvpython (Debian's paraview, installed or unpacked: yadeflex.paraview) and, without a
-display, xvfb-run; skipped, with the reason, without them. The run: the reduced module with
+display, Xvfb; skipped, with the reason, without them. The run: the reduced module with
 VTK, 10 ms after the first contact, from the tests' module cache.
 """
 import os
@@ -32,7 +32,7 @@ def _hue_mask(img, rgb):
 def run_dir(tmp_path_factory, module_cache):
     if YP.pvpython() is None:
         pytest.skip("no pvpython (Debian paraview; it removes python3-vtk9, so unpack it and set YADEFLEX_PVPYTHON: "
-                    "see yadeflex/paraview/__init__.py) or, without a display, no xvfb-run")
+                    "see yadeflex/paraview/__init__.py) or, without a display, no Xvfb (Debian package xvfb)")
     from yadeflex.impact import run_impact
     from yadeflex.module import ModuleParams
     out = str(tmp_path_factory.mktemp("pvrun"))

@@ -53,8 +53,8 @@ def _count(mask, box):
 
 @pytest.fixture(scope="module")
 def shots(tmp_path_factory):
-    if shutil.which("xvfb-run") is None:
-        pytest.skip("xvfb-run not found (Debian package xvfb): the 3D view needs an X server")
+    if shutil.which("Xvfb") is None:
+        pytest.skip("Xvfb not found (Debian package xvfb): the 3D view needs an X server")
     out = str(tmp_path_factory.mktemp("view"))
     t0 = time.time()
     run_yade(os.path.join(HERE, "scripts", "view_scene.py"), args=[out], timeout=120, display=True)
@@ -159,8 +159,8 @@ def test_drawing_while_running(shots):
 
 @pytest.fixture(scope="module")
 def part_shots(tmp_path_factory):
-    if shutil.which("xvfb-run") is None:
-        pytest.skip("xvfb-run not found (Debian package xvfb): the 3D view needs an X server")
+    if shutil.which("Xvfb") is None:
+        pytest.skip("Xvfb not found (Debian package xvfb): the 3D view needs an X server")
     out = str(tmp_path_factory.mktemp("view_parts"))
     run_yade(os.path.join(HERE, "scripts", "view_parts.py"), args=[out], timeout=120, display=True)
     with open(os.path.join(out, "parts.json")) as f:

@@ -18,11 +18,11 @@ UNPACKED = "/opt/yadeflex-paraview/usr/bin/pvpython"  # where scripts/setup unpa
 
 
 def pvpython():
-    """(command, environment) to run pvpython, or None if there is none: YADEFLEX_PVPYTHON (a
-    pvpython, installed or unpacked; an unpacked one gets its libraries and modules), else
-    pvpython on PATH, else the one scripts/setup unpacked (UNPACKED). The command runs under
-    xvfb-run when there is no DISPLAY (Debian's
-    ParaView renders through X, also offscreen)."""
+    """(command, environment, display) to run pvpython, or None if there is none: YADEFLEX_PVPYTHON
+    (a pvpython, installed or unpacked; an unpacked one gets its libraries and modules), else
+    pvpython on PATH, else the one scripts/setup unpacked (UNPACKED). display: whether it needs a
+    virtual X display (no DISPLAY set: Debian's ParaView renders through X, also offscreen; then
+    Xvfb must be installed, else None)."""
     env = dict(os.environ)
     exe = os.environ.get("YADEFLEX_PVPYTHON") or shutil.which("pvpython") or (UNPACKED if os.path.exists(UNPACKED) else None)
     if not exe or not os.access(exe, os.X_OK):
@@ -33,26 +33,33 @@ def pvpython():
         mods = os.path.join(prefix, "lib", "python3", "dist-packages")
         env["LD_LIBRARY_PATH"] = os.pathsep.join(p for p in (libs, env.get("LD_LIBRARY_PATH")) if p)
         env["PYTHONPATH"] = mods  # its own vtkmodules, not the system's
-    cmd = [exe, "--force-offscreen-rendering"]
-    if not env.get("DISPLAY"):
-        xvfb = shutil.which("xvfb-run")
-        if xvfb is None:
-            return None
-        cmd = [xvfb, "-a", "-s", "-screen 0 1600x1200x24"] + cmd
-    return cmd, env
+    display = not env.get("DISPLAY")
+    if display and shutil.which("Xvfb") is None:
+        return None
+    return [exe, "--force-offscreen-rendering"], env, display
+
+
+def _xdisplay():
+    """yadeflex/xdisplay.py, loaded from its file: this module is also loaded on its own, without
+    the yadeflex package (which needs YADE), by scripts/movie.py."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("yadeflex_xdisplay", os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "xdisplay.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def run_open_run(args, timeout=600):
-    """Run open_run.py with args under pvpython; returns the CompletedProcess (text output).
-    Raises RuntimeError if there is no pvpython (see pvpython())."""
+    """Run open_run.py with args under pvpython (on a virtual display of its own when there is no
+    DISPLAY, see yadeflex.xdisplay); returns the CompletedProcess (text output). Raises
+    RuntimeError if there is no pvpython (see pvpython())."""
     found = pvpython()
     if found is None:
         raise RuntimeError("no pvpython: install Debian's paraview (it removes python3-vtk9, see yadeflex.paraview), "
-                           "or set YADEFLEX_PVPYTHON; without a display xvfb-run is needed too")
-    cmd, env = found
-    for _ in range(3):
-        r = subprocess.run(cmd + [OPEN_RUN] + [str(a) for a in args], capture_output=True, text=True, timeout=timeout, env=env)
-        # xvfb-run -a can pick a display another xvfb-run takes at the same moment: try again
-        if "bad X server connection" not in r.stderr:
-            break
-    return r
+                           "or set YADEFLEX_PVPYTHON; without a display Xvfb (Debian package xvfb) is needed too")
+    cmd, env, display = found
+    cmd = cmd + [OPEN_RUN] + [str(a) for a in args]
+    if not display:
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+    with _xdisplay().virtual_display() as d:
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=d))

@@ -6,7 +6,8 @@ Run by pvpython (Debian package paraview), from a shell:
     pvpython py/yadeflex/paraview/open_run.py RUN --png f.png --time 0.004 --color part --clip
     pvpython py/yadeflex/paraview/open_run.py RUN --frames DIR --clip      # every frame: DIR/frame_NNNN.png
 
-(on a machine without a display: xvfb-run -a pvpython ...). RUN is a results folder of the main
+(on a machine without a display: xvfb-run -a pvpython ..., or yadeflex.paraview.run_open_run,
+which starts a virtual display of its own). RUN is a results folder of the main
 job (its vtk/flex.pvd; timeseries.csv and summary.json for --time peak) or a .pvd file. In the
 ParaView GUI: View > Python Shell > Run Script, then open_run("RUN") in the shell.
 
