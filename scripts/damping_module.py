@@ -32,6 +32,11 @@ def main():
     except OptionError as e:  # every option is checked before anything is filled or built
         print(f"{PROG}: {e}", file=sys.stderr)
         return 1
+    from yade import O
+    cpus = len(os.sched_getaffinity(0))
+    if O.numThreads > cpus:  # (YADE's ForceResetter crashes with many more threads than CPUs)
+        print(f"{PROG}: YADE runs {O.numThreads} threads (yade-double -j) but {cpus} CPUs are available here: give -j {cpus} or fewer", file=sys.stderr)
+        return 1
     if a.fill_only:
         return fill_only(p, a.cache_dir)
     return run_impact(p, a.out, cache_dir=a.cache_dir, **run_settings(a))["exit_status"]

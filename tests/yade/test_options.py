@@ -159,3 +159,19 @@ def test_resolved_values_are_the_presets_with_the_overrides():
     assert (r["grain_min"], r["grain_max"], r["fill_density"], r["fill_friction_deg"], r["rolling_friction"]) == (
         sand["grain_min"], sand["grain_max"], sand["density"], sand["friction_deg"], sand["rolling_friction"])
     assert r["fill_young"] == 5e7 and r["impact_velocity"] == 6.0 and r["rope"] is False
+
+
+def test_more_threads_than_cpus_are_refused(tmp_path):
+    """YADE's ForceResetter crashed with --threads 100000 (exit 139, summary left "running"): both
+    the main job (yade-double -j) and scripts/run refuse more threads than the CPUs available,
+    status 1 and one line, nothing filled or written."""
+    cpus = len(os.sched_getaffinity(0))
+    env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "py"))
+    r = subprocess.run(["yade-double", "-n", "-j", str(cpus + 1), "-x", SCRIPT, "--out", str(tmp_path / "out"), "--cache-dir", str(tmp_path / "cache"),
+                        "--small"], capture_output=True, text=True, timeout=300, env=env, cwd=str(tmp_path))
+    lines = [ln for ln in r.stderr.strip().splitlines() if not ln.startswith(YADE_BANNER)]
+    assert r.returncode == 1 and len(lines) == 1 and f"but {cpus} CPUs are available" in lines[0], r.stderr
+    r = subprocess.run([os.path.join(REPO, "scripts", "run"), str(tmp_path / "out2"), "--threads", "100000", "--small"], capture_output=True, text=True,
+                       timeout=300, cwd=str(tmp_path))
+    assert r.returncode == 1 and f"more than the {cpus} CPUs available" in r.stderr, r.stderr
+    assert not (tmp_path / "cache").exists() and not (tmp_path / "out").exists() and not (tmp_path / "out2").exists()
