@@ -16,6 +16,16 @@ def _positive(name, v):
     return C.positive(name, v)
 
 
+# the radius of a wire, bar or rope, or a membrane's thickness: from a micrometre to a metre (a
+# thinner one gives its nodes a mass that underflows to 0 or a step below any use; a thicker one is
+# no longer a wire or a membrane)
+SECTION = C.Range(1e-6, 1.0, "m")
+
+
+def _section(name, v):
+    return C.number(name, v, SECTION)
+
+
 check_finite = C.point  # Vector3 from 3 finite numbers (the public name of checks.point)
 
 
@@ -94,7 +104,7 @@ def cylinder(node1, node2, radius, material, hook_legs=None):
     """A deformable cylinder (capsule, bond) between two FlexNode bodies. Returns its id.
     hook_legs: (a, b), the far nodes of node1's two legs: the link is a hooked knot whose node1
     stays on its side of node2 along the way its bend opens (FlexCylinder.hookLegs); None: none."""
-    r = _positive("cylinder radius", radius)
+    r = _section("cylinder radius", radius)
     mat = _material(material)
     for n in (node1, node2):
         if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n >= len(O.bodies) or O.bodies[n] is None:
@@ -154,7 +164,7 @@ def chain(points, radius, material, segments=None, closed=False, fixed=()):
     Returns (node_ids, cylinder_ids)."""
     closed = C.boolean("closed", closed)
     pts = _subdivide(points, segments, closed)
-    r = _positive("chain radius", radius)
+    r = _section("chain radius", radius)
     mat = _material(material)
     fixed = C.indices("fixed", fixed, len(pts))
     C.body_budget("points", f"{len(pts)} points", 2 * len(pts))
@@ -207,7 +217,7 @@ def net(n, spacing, wire_radius, material, origin=(0, 0, 0), fix_border=True):
     n = C.integer("n", n, 2, C.MAX_BODIES)
     C.body_budget("n", n, 3.0 * n * n)
     h = _positive("spacing", spacing)
-    r = _positive("wire radius", wire_radius)
+    r = _section("wire radius", wire_radius)
     o = check_finite("net origin", origin)
     fix_border = C.boolean("fix_border", fix_border)
     mat = _material(material)

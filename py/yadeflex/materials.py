@@ -6,9 +6,10 @@ from yade.wrapper import FlexMat
 from . import checks as C
 
 # ranges shared by the material presets: moduli up to 10x steel's (a stiffer contact only
-# shortens the time step), densities up to 5x steel's, friction below 90 deg, ks/kn in [0, 1]
+# shortens the time step), densities from an aerogel's to 5x steel's, friction below 90 deg, ks/kn
+# in [0, 1]
 MODULUS = C.Range(0.0, 2e12, "Pa", lo_open=True)
-DENSITY = C.Range(0.0, 4e4, "kg/m3", lo_open=True)
+DENSITY = C.Range(1.0, 4e4, "kg/m3")
 FRICTION_DEG = C.Range(0.0, 90.0, "deg", hi_open=True)
 CONTACT_RATIO = C.Range(0.0, 1.0, note="ks/kn")
 

@@ -14,7 +14,7 @@ from yade.wrapper import Body, FlexNode, FlexFacet, FlexMembraneMat
 from yade.minieigenHP import Vector3
 
 from . import checks as C
-from .builders import _positive, check_finite, fix, lookup_material
+from .builders import _positive, check_finite, fix, lookup_material, _section
 from .materials import MODULUS, FRICTION_DEG, CONTACT_RATIO
 
 
@@ -73,7 +73,7 @@ def _node(pos, radius, mat):
 def facet(node1, node2, node3, material, thickness):
     """A deformable facet over three existing FlexNode bodies; thickness [m] (= 2 x contact
     radius). Returns its id."""
-    t = _positive("facet thickness", thickness)
+    t = _section("facet thickness", thickness)
     mat = _membrane_material(material)
     ids = (node1, node2, node3)
     for n in ids:
@@ -124,7 +124,7 @@ def triangle_mesh(points, triangles, material, thickness, fixed=()):
     if not tris:
         raise ValueError("a membrane needs at least one triangle")
     fixed = C.indices("fixed", fixed, len(pts))
-    t = _positive("membrane thickness", thickness)
+    t = _section("membrane thickness", thickness)
     mat = _membrane_material(material)
     used = sorted({i for tri in tris for i in tri})
     nid = {i: _node(pts[i], 0.5 * t, mat) for i in used}

@@ -10,7 +10,7 @@ from yade.minieigenHP import Vector3
 
 from . import checks as C
 from . import membrane as M
-from .builders import fix, _positive
+from .builders import fix, _positive, _section
 from .materials import DENSITY, FRICTION_DEG
 from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args
 from .scenes import sphere
@@ -127,7 +127,7 @@ def sheet_impact(n=16, size=1.0, thickness=0.002, stiffness=250e3, areal_density
     """Square sheet (n x n cells, clamped border, geotextile-like) and a sphere released
     `drop` [m] above it at its centre, under gravity."""
     _check_square(n, size, damping, gravity, timestep_safety)
-    _positive("thickness", thickness)
+    _section("thickness", thickness)
     M.membrane_material(stiffness, areal_density, tension_only=tension_only, friction_deg=friction_deg)
     _check_sphere(sphere_radius, sphere_density, friction_deg, drop)
     O.reset()
@@ -220,7 +220,7 @@ def hanging_fabric(n=8, size=0.5, thickness=0.002):
     most). No damping."""
     C.integer("n", n, 1, 200)
     _positive("size", size)
-    _positive("thickness", thickness)
+    _section("thickness", thickness)
     O.reset()
     mat = M.geotextile()
     sh = M.sheet(n, n, (size, size), thickness, mat, fix_border=False)
@@ -238,7 +238,7 @@ def driven_indenter(n=8, size=0.8, speed=0.3, radius=0.1, thickness=0.002):
     C.integer("n", n, 1, 200)
     _positive("size", size)
     _positive("radius", radius)
-    _positive("thickness", thickness)
+    _section("thickness", thickness)
     C.number("speed", speed, C.Range(0.0, 100.0, "m/s"))
     O.reset()
     sh = M.sheet(n, n, (size, size), thickness, M.geotextile())

@@ -77,7 +77,7 @@ def _mesh_budget(nx, ny, blame):
 def _build(nx, ny, position, material, wire_radius, wrap=""):
     """Nodes at position(i, k); spirals as chains of cylinders. wrap 'x': column nx is column 0
     (the last spiral hooks into the first); 'y': row ny is row 0 (each spiral closes on itself)."""
-    r = B._positive("wire radius", wire_radius)
+    r = B._section("wire radius", wire_radius)
     mat = B._material(material)
     ids = {}
     for (i, k) in _lattice(nx, ny):
@@ -136,7 +136,7 @@ def _build_knotted(nx, ny, a, h, origin, material, wire_radius, knot_material, h
     the plane. Each spiral's bends alternate above and below the plane along k
     (its legs cross the plane), as the flattened helix of a real spiral does. Edge bends (columns 0 and nx) have no
     partner: one node in the plane."""
-    r = B._positive("wire radius", wire_radius)
+    r = B._section("wire radius", wire_radius)
     d = 2 * r
     mat = B._material(material)
     kmat = B._material(knot_material)
@@ -280,7 +280,7 @@ def edge_ring(edge_nodes, bar_radius, material, closed=True):
         raise ValueError(f"a ring needs at least {3 if closed else 2} edge nodes, got {len(edge_nodes)}")
     if len(set(edge_nodes)) != len(edge_nodes) or not all(isinstance(O.bodies[i].shape, FlexNode) for i in edge_nodes):
         raise C.BadValue("edge_nodes", edge_nodes, "distinct ids of FlexNode bodies")
-    B._positive("bar_radius", bar_radius)
+    B._section("bar_radius", bar_radius)
     B._material(material)
     C.body_budget("edge_nodes", f"{len(edge_nodes)} nodes", len(edge_nodes))
     nodes = _sorted_around(edge_nodes) if closed else list(edge_nodes)

@@ -32,7 +32,7 @@ def rope_around(centers, module_radius, z, material, rope_radius=0.004, segment_
     rope_radius): the convex hull of the circles, straight between modules, discretised
     into segments of about segment_length [m] whose chords touch the circles without cutting
     into them (the nodes on the arcs lie slightly outside). Returns (node_ids, cylinder_ids)."""
-    Rm = B._positive("module radius", module_radius) + B._positive("rope radius", rope_radius)
+    Rm = B._positive("module radius", module_radius) + B._section("rope radius", rope_radius)
     h = B._positive("segment length", segment_length)
     z = C.number("z", z, C.Range(unit="m"))
     try:

@@ -31,6 +31,12 @@ BAD = [
     (yf.chain, lambda c: ((P2, 0.01, c["steel"]), dict(segments=4, fixed=[5])), "fixed"),
     (yf.chain, lambda c: ((P2, 0.01, c["steel"]), dict(closed="maybe")), "closed"),
     (yf.chain, lambda c: ((P2, math.inf, c["steel"]), {}), "chain radius"),
+    # sizes and densities whose nodes would get a mass of 0 (underflow) or a step below any use
+    (yf.ring, lambda c: (((0, 0, 0), 0.3, 1e-300, c["steel"]), {}), "chain radius"),
+    (yf.cylinder, lambda c: ((c["n0"], c["n1"], 1e-300, c["steel"]), {}), "cylinder radius"),
+    (yf.steel, lambda c: ((), dict(density=1e-300)), "density"),
+    (yf.sheet, lambda c: ((4, 4, (1, 1), 1e300, c["gtx"]), {}), "membrane thickness"),
+    (yf.edge_ring, lambda c: (([c["n0"], c["n1"]], 1e-300, c["steel"]), dict(closed=False)), "bar_radius"),
     (yf.chain, lambda c: ((["abc", (1, 0, 0)], 0.01, c["steel"]), {}), "point 0"),
     (yf.ring, lambda c: (((0, 0, 0), 0.3, 0.005, c["steel"]), dict(segments=2)), "segments"),
     (yf.ring, lambda c: (((0, 0, 0), 0.3, 0.005, c["steel"]), dict(segments=10 ** 12)), "segments"),
