@@ -45,6 +45,7 @@ FLAGS = ("small", "no_vtk")           # the job's options without a value: a yes
 STUDY_COLUMNS = ("name", "repeat")    # the study's own columns (seed is the job's --seed)
 SET_BY_STUDY = ("out", "cache_dir")   # options the study sets for every run
 NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+MAX_REPEAT = 1000  # runs of one row (each a fill of its own)
 STATUS_FILE, SUMMARY_FILE, LOG_FILE = "study_run.json", "summary.json", "log.txt"
 EXIT_BAD_STUDY, EXIT_RUNS_FAILED = 1, 3  # scripts/study's exit status (0: every run done)
 
@@ -101,8 +102,16 @@ def _row_argv(cells, row, line, errors):
                     argv.append(flag)
             except C.BadValue as e:
                 errors.append(f"{_where(row, line, opt)}: got {text!r}; allowed {e.allowed}")
-        elif opt == "impact_offset":
-            argv += [flag, *text.split()]
+        elif opt == "impact_offset":  # one cell, one value: two numbers, nothing else taken as arguments
+            parts = text.split()
+            try:
+                ok = len(parts) == 2 and all(math.isfinite(float(p)) for p in parts)
+            except ValueError:
+                ok = False
+            if ok:
+                argv += [flag, *parts]
+            else:
+                errors.append(f"{_where(row, line, opt)}: got {text!r}; allowed two numbers, the offset x y [m] (e.g. '0.1 0')")
         else:
             argv += [flag, text]
     return argv, given
@@ -115,7 +124,7 @@ def read_study(path, out_dir=None):
     naming its row and column."""
     from .module_cli import parse, OptionError
     try:
-        with open(path, newline="") as fh:
+        with open(path, newline="", encoding="utf-8-sig") as fh:  # (a spreadsheet's byte-order mark is not a column name)
             table = [r for r in csv.reader(fh) if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
     except OSError as e:
         raise StudyError([f"study file {path}: {e.strerror or e}"]) from None
@@ -134,7 +143,7 @@ def read_study(path, out_dir=None):
     runs, names = [], {}
     for row, cells_list in enumerate(table[1:], 1):
         line = row + 1  # (after the header; comment and blank lines not counted)
-        if len(cells_list) > len(header):
+        if len(cells_list) != len(header):  # (a short row is refused too: its missing cells would run with defaults)
             errors.append(f"{_where(row, line)}: {len(cells_list)} cells, the header has {len(header)} columns")
             continue
         cells = dict(zip(header, [c.strip() for c in cells_list]))
@@ -145,10 +154,10 @@ def read_study(path, out_dir=None):
         if cells.get("repeat"):
             try:
                 repeat = int(cells["repeat"])
-                if repeat < 1:
+                if not 1 <= repeat <= MAX_REPEAT:
                     raise ValueError
             except ValueError:
-                errors.append(f"{_where(row, line, 'repeat')}: got {cells['repeat']!r}; allowed a whole number >= 1")
+                errors.append(f"{_where(row, line, 'repeat')}: got {cells['repeat']!r}; allowed a whole number in [1, {MAX_REPEAT}] (a fill each)")
                 repeat = 1
         argv, given = _row_argv(cells, row, line, errors)
         seed0 = None

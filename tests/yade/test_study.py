@@ -82,7 +82,7 @@ def test_bad_cells_are_named_by_row_and_column_before_anything_runs(tmp_path):
         "row 3 (line 4), column small: got 'maybe'; allowed true/false/yes/no/1/0",
         "row 3 (line 4), column fill: bad option --fill: got 'granite'; allowed one of 'gravel', 'sand'",
         "row 4 (line 5), column record_every: " + err.value.errors[3].split(": ", 1)[1],
-        "row 5 (line 6), column repeat: got '0'; allowed a whole number >= 1",
+        "row 5 (line 6), column repeat: got '0'; allowed a whole number in [1, 1000] (a fill each)",
         "row 5 (line 6), column name: the run name 'ok' is already row 1's"], err.value.errors
     assert "bad option --record-every: got 0.5; allowed [1e-06, 0.001] s" in err.value.errors[3]
     assert not out.exists()  # refused before anything was made or run
@@ -90,6 +90,30 @@ def test_bad_cells_are_named_by_row_and_column_before_anything_runs(tmp_path):
         study.read_study(write_study(tmp_path / "cols.csv", [dict(drop_hieght="1", out="x", small="yes")]))
     assert err.value.errors[0].startswith("column 'drop_hieght' (line 1): not an option of the main job (allowed: ")
     assert err.value.errors[1].startswith("column 'out' (line 1): set by the study for every run")
+
+
+def test_a_cell_is_one_value_and_a_row_has_every_cell(tmp_path):
+    """An impact_offset cell with more than its two numbers ran the words after them as options
+    ('0 0 --drop-height 3' from 3 m while results.csv said 1 m); a short row ran with defaults; a
+    spreadsheet's byte-order mark became part of the first column's name; repeat=100000 started
+    99,999 fills. Each refused (or, the mark, accepted) before anything runs."""
+    path = tmp_path / "s.csv"
+    path.write_text("name,small,drop_height,impact_offset\n"
+                    "a,yes,1,0 0 --drop-height 3\n"
+                    "b,yes,1,0 0 0.01\n"
+                    "c,yes,1\n"
+                    "d,yes,1,0.1 0\n")
+    with pytest.raises(study.StudyError) as err:
+        study.read_study(str(path))
+    assert err.value.errors == [
+        "row 1 (line 2), column impact_offset: got '0 0 --drop-height 3'; allowed two numbers, the offset x y [m] (e.g. '0.1 0')",
+        "row 2 (line 3), column impact_offset: got '0 0 0.01'; allowed two numbers, the offset x y [m] (e.g. '0.1 0')",
+        "row 3 (line 4): 3 cells, the header has 4 columns"], err.value.errors
+    path.write_bytes("\ufeffname,small,drop_height,impact_offset\nd,yes,1,0.1 0\n".encode("utf-8"))
+    runs = study.read_study(str(path))
+    assert [r["name"] for r in runs] == ["d"] and runs[0]["argv"][-3:] == ["--impact-offset", "0.1", "0"]
+    with pytest.raises(study.StudyError, match=r"column repeat: got '100000'; allowed a whole number in \[1, 1000\]"):
+        study.read_study(write_study(tmp_path / "r.csv", [dict(name="x", small="yes", repeat="100000")]))
 
 
 def test_repeat_gives_one_run_per_seed(tmp_path):
