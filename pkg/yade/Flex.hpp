@@ -146,7 +146,13 @@ public:
 		((Vector3r, handoverShear, Vector3r::Zero(), , "Shear force taken over [N]"))
 		((Vector3r, rollMoment, Vector3r::Zero(), , "Rolling-resistance moment on body 2 (sphere-sphere contacts) [N m]"))
 		((Real, plasticOverlap, 0, , "Permanent part of the overlap of a sphere-sphere contact whose grains crushed (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.crushingIs50`): the normal force is kn (penetrationDepth - plasticOverlap), at least 0 [m]"))
-		((Real, onsetDepth, 0, (Attr::noSave | Attr::readonly), "Overlap this contact (re)started with at this step if that was a deep onset (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.deepOnsets`), else 0 [m]")),
+		((Real, onsetDepth, 0, (Attr::noSave | Attr::readonly), "Overlap this contact (re)started with at this step if that was a deep onset (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.deepOnsets`), else 0 [m]"))
+		((long, crossIter, -2, Attr::readonly, "Crossing correction (:yref:`Law2_FlexContactGeom_FrictPhys_CundallStrack.crossing`): last iteration it was updated at (otherwise it starts again)"))
+		((Real, crossDepth, 0, Attr::readonly, "Crossing correction: overlap at that iteration [m]"))
+		((Real, crossForce, 0, Attr::readonly, "Crossing correction: normal force applied at that iteration, the spring's and the correction's, repulsive positive [N]"))
+		((Real, crossRate, NaN, Attr::readonly, "Crossing correction: rate of the overlap at that iteration (NaN: unknown) [m/s]"))
+		((Real, crossDefect, 0, Attr::readonly, "Crossing correction: energy the leap-frog scheme has put into the bodies beyond the spring's potential, still to be cancelled [J]"))
+		((int, crossOut, 0, Attr::readonly, "Crossing correction: steps since the last step with positive overlap")),
 		createIndex();
 	);
 	// clang-format on
@@ -242,6 +248,7 @@ public:
 		((Real, deepOnsetEnergy, 0, , "Sum of 1/2 kn d^2 over the deep onsets: normal spring energy that came with them [J]"))
 		((long, deepEndings, 0, , "Contacts that ended while still overlapping: handed over to a neighbour element, which then starts deep (see deepOnsets) [-]"))
 		((Real, deepEndingEnergy, 0, , "Sum of 1/2 kn d^2 over the deep endings: normal spring energy that went with them [J]. deepOnsetEnergy - deepEndingEnergy is the energy the hand-overs and late contacts created: a hand-over inside a cluster passes on the same overlap, so its onset and ending cancel; a contact detected late brings energy from nothing"))
+		((bool, crossing, true, , "Energy-consistent onset and release (pkg/kernel/Crossing.hpp): over the step in which a contact starts or ends, the leap-frog scheme gains or loses up to 1/2 kn d0 d1 (the overlaps at the step's ends, of opposite signs), up to a quarter of (omega dt)^2 of the energy of a bounce; each contact keeps that defect and cancels it with an extra normal force on the next steps (kept two steps past its separation to do so). False: the plain penalty contact"))
 		((Real, onsetFactor, 2, , "An onset counts as deep when its overlap exceeds onsetFactor x the approach speed x dt (the overlap one step of approach gives; 2 leaves room for the change of speed within the step) [-]"))
 		((Real, maxOverlapRatio, 0, , "Largest overlap / (refR1 + refR2) (the contact's reach) of an active contact at any step since it was last set to 0 (set it to 0 to start again) [-]"))
 		((Vector2i, maxOverlapIds, Vector2i(-1, -1), , "The two bodies of the contact of maxOverlapRatio [-]"))

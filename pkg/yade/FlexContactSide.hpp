@@ -9,9 +9,8 @@
 //  - a point at barycentric weights on a facet (its three nodes): forces only, by the adjoint of
 //    the facet point's velocity (flex::distributeToTriangle), each node carrying at most
 //    w_a + (load factor - 1) of the force (flex::triangleLoadFactor).
-// The law puts the contact force on both sides with applyForce; the time stepper's contact rows
-// read the same weights (timeStepEntries), so that the step bounds exactly the force paths the
-// law uses.
+// The law puts the contact force on both sides with applyForce. The time stepper counts every
+// contact at the worst weights its sides can have (flex::potentialContactRows), which bound these.
 #pragma once
 #include "FlexElements.hpp"
 #include "FlexForces.hpp"
@@ -68,35 +67,20 @@ namespace flexa {
 			addTorque(scene, sink, nodes[1], B.M);
 		}
 
-		/// A body that carries this side in the time step's contact rows: its share of the force
-		/// (the bound on it, for a facet) and the lever of the force for its rotational row (0: no
-		/// moment reaches it).
-		struct Entry {
-			Body::id_t id;
-			Real       w, lever;
-		};
-		/// The side's entries into e (at most 3); returns how many.
-		int timeStepEntries(const Scene* scene, Entry* e) const
+		/// Inverse mass [1/kg] of the side's contact point for a force along a direction: the
+		/// lumped point the weights make of its nodes, sum w^2 / m (a rigid body: 1 / m; rotation
+		/// left out); a node or body that cannot move (not dynamic, or all its translations
+		/// blocked) adds nothing.
+		Real invMass(const Scene* scene) const
 		{
-			if (isFacet()) {
-				Vector3r x[3];
-				bool     ok = true;
-				for (int a = 0; a < 3 && ok; ++a) {
-					const State* st = stateOf(scene, tri[a]);
-					if ((ok = st != nullptr)) x[a] = st->pos;
-				}
-				const Real extra = ok ? flex::triangleLoadFactor(x, refR) - 1 : 0;
-				for (int a = 0; a < 3; ++a)
-					e[a] = { tri[a], bary[a] + extra, 0 };
-				return 3;
-			}
-			if (isRigid()) {
-				e[0] = { body, 1, refR };
-				return 1;
-			}
-			e[0] = { nodes[0], 1 - u, refR };
-			e[1] = { nodes[1], u, refR };
-			return 2;
+			const auto inv = [&](Body::id_t id) -> Real {
+				const Body* b = bodyAt(scene, id);
+				if (!b || !b->isDynamic() || (b->state->blockedDOFs & State::DOF_XYZ) == State::DOF_XYZ || !(b->state->mass > 0)) return 0;
+				return 1 / b->state->mass;
+			};
+			if (isFacet()) return bary[0] * bary[0] * inv(tri[0]) + bary[1] * bary[1] * inv(tri[1]) + bary[2] * bary[2] * inv(tri[2]);
+			if (isRigid()) return inv(body);
+			return (1 - u) * (1 - u) * inv(nodes[0]) + u * u * inv(nodes[1]);
 		}
 	};
 } // namespace flexa

@@ -5,6 +5,7 @@
 #include "FlexProtocol.hpp"
 #include <kernel/ClosestPoints.hpp>
 #include <kernel/Contact.hpp>
+#include <kernel/Crossing.hpp>
 #include <kernel/Crushing.hpp>
 #include <kernel/Triangle.hpp>
 
@@ -409,6 +410,44 @@ void Ig2_Sphere_Sphere_FlexContactGeom::update(Scene* scene, FlexContactGeom& g,
 	finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
 }
 
+namespace {
+	// The crossing correction's state of g: continued from the last step, or started anew (a
+	// new contact, one that was not followed last step: inactive while overlapping, or handed
+	// over), at overlap d and overlap rate `rate`.
+	flex::CrossingState crossingOf(const Scene* scene, const FlexContactGeom& g, Real kn, Real rate)
+	{
+		if (g.crossIter != scene->iter - 1) return flex::crossingStart(kn, g.penetrationDepth, rate, scene->dt);
+		flex::CrossingState st;
+		st.prevDepth = g.crossDepth;
+		st.prevForce = g.crossForce;
+		st.prevRate  = g.crossRate;
+		st.defect    = g.crossDefect;
+		st.outSteps  = g.crossOut;
+		return st;
+	}
+	void keepCrossing(const Scene* scene, FlexContactGeom& g, const flex::CrossingState& st)
+	{
+		g.crossIter   = scene->iter;
+		g.crossDepth  = st.prevDepth;
+		g.crossForce  = st.prevForce;
+		g.crossRate   = st.prevRate;
+		g.crossDefect = st.defect;
+		g.crossOut    = st.outSteps;
+	}
+	// One step of the correction for contact g (normal spring kn): the extra normal force on
+	// side 2, repulsive positive [N]
+	Real crossingStep(const Scene* scene, FlexContactGeom& g, Real kn, const Interaction* I)
+	{
+		const Real          rate = -g.normal.dot(g.relVel); // d(overlap)/dt
+		flex::CrossingState st   = crossingOf(scene, g, kn, rate);
+		const Real          c    = flex::crossingStep(st, kn, g.penetrationDepth, rate, scene->dt, [&] {
+                        return flexa::ContactSide::of(g, 1, I->getId1()).invMass(scene) + flexa::ContactSide::of(g, 2, I->getId2()).invMass(scene);
+                });
+		keepCrossing(scene, g, st);
+		return c;
+	}
+} // namespace
+
 bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
 {
 	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I, nullptr, nullptr);
@@ -451,7 +490,19 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		}
 		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) // ended while overlapping (see deepEndings)
 			tally(deepEndings, deepEndingEnergy, 0.5 * p.kn * g.penetrationDepth * g.penetrationDepth);
-		return g.lastActiveIter >= scene->iter - 1;
+		// separated (not handed over): the crossing correction runs on for two steps, its force
+		// on the bodies only (the interaction's own data stay as they were, for the neighbours)
+		bool crossingOn = false;
+		if (crossing && g.crossIter == scene->iter - 1 && g.penetrationDepth <= 0) {
+			const Real c = crossingStep(scene, g, p.kn, I);
+			if (c != 0) {
+				const flexa::ForceSink* sink = flexa::currentSink();
+				flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -c * g.normal);
+				flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, c * g.normal);
+			}
+			crossingOn = !flex::crossingDone(flex::CrossingState { g.crossDepth, g.crossForce, g.crossRate, g.crossDefect, g.crossOut });
+		}
+		return g.lastActiveIter >= scene->iter - 1 || crossingOn;
 	}
 	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
 	if (g.onsetDepth > 0) {
@@ -478,7 +529,10 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	const flex::FrictionalResult r  = flex::frictionalStepWithNormal(fc, Fn, n, shear, dus);
 	p.normalForce                   = r.normalForce;
 	p.shearForce                    = r.shearForce;
-	const Vector3r          F       = r.normalForce + r.shearForce; // on side 2
+	// the crossing correction (a linear spring only: not a crushed sphere pair); not part of the
+	// normal force the friction and the outputs see
+	const Real              cross   = (crossing && crushWork == 0 && g.plasticOverlap == 0) ? crossingStep(scene, g, p.kn, I) : 0;
+	const Vector3r          F       = r.normalForce + r.shearForce + cross * n; // on side 2
 	const flexa::ForceSink* sink    = flexa::currentSink();         // (set by FlexInteractionLoop on several threads)
 	flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -F);
 	flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, F);

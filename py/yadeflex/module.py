@@ -289,7 +289,7 @@ class ModuleParams:
             d["fill_deposition_friction_deg"] = float(d["fill_deposition_friction_deg"])
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 15  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill)
+        d["_version"] = 16  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill); 16: FlexContactGeom's crossing state saved (a file of an earlier build cannot be read)
         if self.with_rope():
             d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]

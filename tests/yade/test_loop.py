@@ -78,7 +78,7 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
     the reference)."""
     ref = _run_from_saved(prefetch=False, engines=NO_PREFETCH)
     assert not any(ref[3])  # InteractionLoop.action itself
-    assert ref[2] > 100 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path)
+    assert ref[2] > 50 and ref[4] > 100  # contacts, and pairs marked unreachable (the skipped path): both paths used
     assert ref[6] == 0
     for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False),
                   dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False), dict(rememberSkips=False),
@@ -88,8 +88,9 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
         assert got[:3] == ref[:3], attrs
         # sphere pairs apart left out before their bodies are read (on by default)
         assert (got[5] > 100) if attrs.get("quickReject", True) else (got[5] == 0), attrs
-        # sphere contacts run by the fused path (on by default; about 100 of the 147 contacts here)
-        assert (got[6] > 80) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs
+        # sphere contacts run by the fused path (on by default): most of the contacts here are
+        # grain-grain (76 of the 96 fused on some step)
+        assert (got[6] > ref[2] // 2) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs
         # pairs left out from their records, without their interaction objects (on by default): on
         # some step, at least 9 in 10 of the most pairs marked (most of them are remembered from the
         # step before; 1,391 recalled of 1,325 marked and 194 rejected)
