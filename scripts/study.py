@@ -6,6 +6,8 @@
 # The study file, the outputs and the backends: yadeflex/study.py; --help lists the options.
 import argparse
 import builtins
+import contextlib
+import io
 import os
 import sys
 
@@ -35,15 +37,17 @@ def main(argv):
     ap.add_argument("--time-limit", default=None, help="slurm: time limit of each run, e.g. 1:00:00 (sbatch --time)")
     ap.add_argument("--sbatch-arg", action="append", default=[], help="slurm: an extra sbatch argument (repeatable), e.g. --sbatch-arg=--qos=short")
     ap.add_argument("--poll", type=float, default=5.0, help="slurm: seconds between squeue polls (default 5)")
+    ap.add_argument("--sbatch-setup", action="append", default=[], help="slurm: a shell line each job runs first (repeatable), e.g. --sbatch-setup='module load yade'")
     a = ap.parse_args(argv)
     try:
-        from yadeflex import study
+        with contextlib.redirect_stdout(io.StringIO()):  # (YADE's import prints its Python version: the coordinator stays quiet)
+            from yadeflex import study
     except ImportError as e:
         print(f"study: yadeflex cannot be imported ({e}): it needs YADE ({YADE_PY}) and the yade-flex plugin installed "
               "(scripts/setup, or scripts/run once)", file=sys.stderr)
         return 1
-    slurm = study.Slurm(a.partition, a.account, a.time_limit, a.sbatch_arg, a.poll, a.workers)
     try:
+        slurm = study.Slurm(a.partition, a.account, a.time_limit, a.sbatch_arg, a.poll, a.workers, a.sbatch_setup)
         rows = study.run_study(a.study_file, a.out_dir, backend=a.backend, workers=a.workers, resume=a.resume,
                                cache_dir=a.cache_dir, timeout=a.timeout, yade=a.yade, slurm=slurm)
     except study.StudyError as e:

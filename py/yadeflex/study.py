@@ -413,11 +413,16 @@ def run_mpi(tasks, tasks_file, progress):
 
 class Slurm:
     """Where and how the study's job arrays are submitted: partition, account, time_limit (per
-    array task, Slurm's format, e.g. 1:00:00), extra sbatch arguments, poll interval [s]."""
+    array task, the fills' and the runs', Slurm's format, e.g. 1:00:00), extra sbatch arguments,
+    poll interval [s], setup: shell lines each task runs before its run (e.g. 'module load yade')."""
 
-    def __init__(self, partition=None, account=None, time_limit=None, extra=(), poll=5.0, max_parallel=None):
+    def __init__(self, partition=None, account=None, time_limit=None, extra=(), poll=5.0, max_parallel=None, setup=()):
         self.partition, self.account, self.time_limit = partition, account, time_limit
         self.extra, self.poll, self.max_parallel = list(extra), poll, max_parallel
+        self.setup = list(setup)
+        for line in self.setup:
+            if "\n" in line or "\r" in line:
+                raise StudyError([f"backend slurm: a setup line holds a line break: {line!r}; give one --sbatch-setup per line"])
 
     def script(self, tasks_file, n, log_dir, name):
         lines = ["#!/bin/bash", f"#SBATCH --job-name={name}", "#SBATCH --cpus-per-task=1", "#SBATCH --ntasks=1",
@@ -425,6 +430,7 @@ class Slurm:
                  f"#SBATCH --output={log_dir}/%x-%A_%a.out"]
         lines += [f"#SBATCH --{k}={v}" for k, v in (("partition", self.partition), ("account", self.account),
                                                     ("time", self.time_limit)) if v]
+        lines += self.setup
         lines += ["export OMP_NUM_THREADS=1",
                   "exec " + shlex.join(task_command(tasks_file, 0)[:-1]) + ' "$SLURM_ARRAY_TASK_ID"']
         return "\n".join(lines) + "\n"

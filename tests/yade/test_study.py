@@ -304,3 +304,24 @@ def test_a_run_whose_fill_failed_is_recorded_without_running(tmp_path):
     assert out["skipped"] == f"not run: fill-x failed (RuntimeError: the fill did not settle; log {tmp_path}/fill/log.txt)"
     row = study.result_row(dict(name="r", row=1, inputs={}), folder)
     assert (row["status"], row["exit_status"], row["message"], row["log"]) == ("failed", 1, out["skipped"], f"{tmp_path}/fill/log.txt")
+
+
+def test_slurm_job_scripts_run_the_setup_lines_first(tmp_path):
+    """Clusters load their software with `module load` lines: --sbatch-setup puts them in every
+    job script (the fills' and the runs'), before the run; a line break inside one is refused."""
+    s = study.Slurm(time_limit="1:00:00", setup=["module load yade", "source /opt/env.sh"])
+    lines = s.script(str(tmp_path / "tasks.json"), 3, str(tmp_path), "x").splitlines()
+    exec_at = next(k for k, ln in enumerate(lines) if ln.startswith("exec "))
+    assert lines.index("module load yade") < lines.index("source /opt/env.sh") < exec_at
+    assert "#SBATCH --time=1:00:00" in lines
+    with pytest.raises(study.StudyError, match="line break"):
+        study.Slurm(setup=["module load yade\nrm -rf /"])
+
+
+def test_the_coordinator_prints_only_its_own_lines(tmp_path):
+    """YADE's import printed 'Using python version ...' into the coordinator's output."""
+    path = tmp_path / "s.csv"
+    path.write_text("name,small,repeat\nx,yes,0\n")
+    r = subprocess.run([STUDY, str(path), str(tmp_path / "out")], capture_output=True, text=True, timeout=300)
+    assert r.returncode == study.EXIT_BAD_STUDY and r.stdout == "", r.stdout
+    assert r.stderr.strip().splitlines() == ["study: row 1 (line 2), column repeat: got '0'; allowed a whole number in [1, 1000] (a fill each)"], r.stderr
