@@ -150,6 +150,9 @@ def parse(argv):
         raise _bad("--record-every", a.record_every, f"at most duration/10 = {run / 10:g} s (ten records or more)")
     if a.vtk_every > run:
         raise _bad("--vtk-every", a.vtk_every, f"at most the run's length, {run:g} s")
+    if a.drop_height is not None and a.impact_velocity is not None:  # (the speed would win without a word)
+        raise OptionError(f"bad option --impact-velocity: got {C.show(a.impact_velocity)} with --drop-height {C.show(a.drop_height)}; "
+                          "allowed one of the two (the drop height sets the speed, sqrt(2 g h))")
     p = ModuleParams.small() if a.small else ModuleParams()
     for f in dataclasses.fields(ModuleParams):
         v, opt = getattr(a, f.name), _option(f.name)

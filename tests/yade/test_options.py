@@ -53,6 +53,7 @@ BAD = [
     (["--boulder-density", "0"], "--boulder-density"), (["--boulder-density", "1e9"], "--boulder-density"),
     (["--drop-height", "0"], "--drop-height"), (["--drop-height", "1e300"], "--drop-height"), (["--drop-height", "nan"], "--drop-height"),
     (["--impact-velocity", "-3"], "--impact-velocity"), (["--impact-velocity", "1e9"], "--impact-velocity"),
+    (["--drop-height", "1", "--impact-velocity", "3"], "--impact-velocity"),  # two speeds: the velocity won without a word
     (["--impact-offset", "nan", "0"], "--impact-offset"), (["--impact-offset", "3", "0"], "--impact-offset"),
     (["--impact-offset", "0"], "--impact-offset"),
     (["--damping", "1"], "--damping"), (["--damping", "-0.1"], "--damping"),
