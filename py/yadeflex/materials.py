@@ -6,10 +6,23 @@ from yade.wrapper import FlexMat
 from . import checks as C
 
 # ranges shared by the material presets: moduli up to 10x steel's (a stiffer contact only
-# shortens the time step), densities from an aerogel's to 5x steel's, friction below 90 deg, ks/kn
-# in [0, 1]
+# shortens the time step), densities from an aerogel's up (above 5x steel's, MASS_SCALING: mass
+# scaling, with a warning), friction below 90 deg, ks/kn in [0, 1]
 MODULUS = C.Range(0.0, 2e12, "Pa", lo_open=True)
-DENSITY = C.Range(1.0, 4e4, "kg/m3")
+MASS_SCALING = 4e4  # [kg/m3] densities above this are taken as mass scaling
+DENSITY = C.Range(1.0, 1e9, "kg/m3", note=f"above {MASS_SCALING:g}: mass scaling, with a warning")
+
+
+def _density(name, v):
+    """A density [kg/m3], checked (DENSITY); above MASS_SCALING a UserWarning says it is taken as
+    mass scaling: it lengthens the time step as its square root, for quasi-static loading only
+    (inertia forces grow with it)."""
+    v = C.number(name, v, DENSITY)
+    if v > MASS_SCALING:
+        import warnings
+        warnings.warn(f"{name} {v:g} kg/m3 is {v / 7850:.3g}x steel's: taken as mass scaling (the time step grows as its square root, "
+                      "inertia forces with it): for quasi-static loading only", stacklevel=3)
+    return v
 FRICTION_DEG = C.Range(0.0, 90.0, "deg", hi_open=True)
 CONTACT_RATIO = C.Range(0.0, 1.0, note="ks/kn")
 
@@ -27,7 +40,7 @@ def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_r
     hardening [-] post-yield stiffness / EA; rupture_strain [-]; bending_factor [-] scale of EI, GJ.
     """
     young = C.number("young", young, MODULUS)
-    density = C.number("density", density, DENSITY)
+    density = _density("density", density)
     for name, v, unit in (("yield_stress", yield_stress, "Pa"), ("tensile_strength", tensile_strength, "Pa"), ("rupture_strain", rupture_strain, "")):
         if v != math.inf:
             C.number(name, v, C.Range(0.0, unit=unit, lo_open=True, note="or inf: none"))

@@ -11,7 +11,7 @@ from yade.minieigenHP import Vector3
 from . import checks as C
 from . import membrane as M
 from .builders import fix, _positive, _section
-from .materials import DENSITY, FRICTION_DEG
+from .materials import FRICTION_DEG, _density
 from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args
 from .scenes import sphere
 
@@ -30,7 +30,7 @@ def _check_membrane(stiffness, poisson):
 
 def _check_sphere(radius, density, friction_deg, drop):
     _positive("sphere_radius", radius)
-    C.number("sphere_density", density, DENSITY)
+    _density("sphere_density", density)
     C.number("friction_deg", friction_deg, FRICTION_DEG)
     C.number("drop", drop, C.Range(0.0, unit="m"))
 

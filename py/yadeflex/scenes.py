@@ -11,7 +11,7 @@ from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
 
 from . import builders as B
 from . import checks as C
-from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO
+from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO, _density
 from .scene import engines, engine_args, step_until
 
 
@@ -19,7 +19,7 @@ def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact
     """A rigid sphere (FrictMat) at center [m], radius [m]; returns its id."""
     c = B.check_finite("sphere center", center)
     r = B._positive("sphere radius", radius)
-    C.number("sphere density", density, DENSITY)
+    _density("sphere density", density)
     C.number("sphere young", young, MODULUS)
     C.number("friction_deg", friction_deg, FRICTION_DEG)
     C.number("contact_ratio", contact_ratio, CONTACT_RATIO)

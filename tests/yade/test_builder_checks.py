@@ -35,6 +35,7 @@ BAD = [
     (yf.ring, lambda c: (((0, 0, 0), 0.3, 1e-300, c["steel"]), {}), "chain radius"),
     (yf.cylinder, lambda c: ((c["n0"], c["n1"], 1e-300, c["steel"]), {}), "cylinder radius"),
     (yf.steel, lambda c: ((), dict(density=1e-300)), "density"),
+    (yf.steel, lambda c: ((), dict(density=1e10)), "density"),
     (yf.sheet, lambda c: ((4, 4, (1, 1), 1e300, c["gtx"]), {}), "membrane thickness"),
     (yf.edge_ring, lambda c: (([c["n0"], c["n1"]], 1e-300, c["steel"]), dict(closed=False)), "bar_radius"),
     (yf.chain, lambda c: ((["abc", (1, 0, 0)], 0.01, c["steel"]), {}), "point 0"),
@@ -214,3 +215,12 @@ def test_body_budget_names_the_limit(scene):
     with pytest.raises(ValueError, match=f"MAX_BODIES = {checks.MAX_BODIES}"):
         yf.chain_link_panel(0.3, 1e300, yf.tecco_wire())
     assert len(O.bodies) == 0
+
+
+def test_a_density_above_five_steels_is_mass_scaling_with_a_warning(scene):
+    """Users scale density to lengthen the step in quasi-static tests: allowed, said once."""
+    with pytest.warns(UserWarning, match=r"density 1e\+06 kg/m3 is 127x steel's: taken as mass scaling"):
+        m = yf.steel(density=1e6)
+    assert m.density == 1e6
+    with pytest.warns(UserWarning, match="sphere density"):
+        scenes.sphere((0, 0, 0), 0.01, density=1e5)
