@@ -374,6 +374,9 @@ class ImpactRun:
                 self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms, stopped by FlexGuard: {guard.message}; "
                            f"bodies: {', '.join(part_name(b, self.names) for b in guard.bodies[:5])}")
                 return
+            except ValueError as e:  # the integrator or the scene check: a motion became non-finite (the message names the body)
+                self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms: {e}; stopping")
+                return
             if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * self.dt0:
                 self._stop("unstable", f"the stable time step collapsed from {self.dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - self.start):.2f} ms; "
                            f"it is set by {part_name(ts.stiffestBody, self.names)} (a crushed lining facet or a light node under a stiff contact); "

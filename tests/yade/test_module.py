@@ -139,6 +139,44 @@ def test_recorded_impact_force_is_the_contact_force_on_the_boulder(small_run, sc
     assert s["peak_impact_force"] == pytest.approx(scale, rel=1e-9)
 
 
+def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp_path, monkeypatch):
+    """A blow-up on purpose: a force of NaN put on the boulder 1 ms into the impact. The integrator
+    refuses the motion (ValueError naming the body); the run ends as "unstable", exit status 2,
+    with the message in summary.json, not as "failed" with a traceback."""
+    import math as m
+    from yade import O
+    from yade.minieigenHP import Vector3
+    from yadeflex import impact
+    from yadeflex.module import ModuleParams
+    base, _, _ = small_run
+    real = impact.step_until
+
+    def spoiling(until, steps):
+        run = spoiling.run
+        if run is None:
+            return real(until, steps)
+        if O.time > run.start + 1e-3 and not spoiling.done:
+            ids = list(run.boulder.shape.members.keys()) if run.boulder.isClump else [run.boulder.id]
+            O.forces.setPermF(ids[0], Vector3(0, 0, m.nan))
+            spoiling.done = True
+        return real(until, steps)
+    spoiling.run, spoiling.done = None, False
+    start = impact.ImpactRun._record
+
+    def record(run):
+        spoiling.run = run
+        return start(run)
+
+    monkeypatch.setattr(impact, "step_until", spoiling)
+    monkeypatch.setattr(impact.ImpactRun, "_record", record)
+    s = impact.run_impact(ModuleParams.small(), str(tmp_path / "out"), cache_dir=str(base / "cache"), progress=False, no_vtk=True)
+    assert spoiling.done
+    assert s["status"] == "unstable" and s["exit_status"] == 2, s
+    assert "non-finite" in s["message"] and "body #" in s["message"], s["message"]
+    saved = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert saved["status"] == "unstable" and saved["exit_status"] == 2
+
+
 def test_params_record_the_values_used(small_run):
     """params.json holds the values the run used, the fill preset's resolved (grain sizes,
     density, friction, modulus, rolling friction), and the parameters as given."""
