@@ -607,6 +607,22 @@ def cache_files(params, cache_dir):
     return stem + ".yade.gz", stem + ".json", stem + ".lock"
 
 
+def check_saved(path):
+    """Raises OSError naming path unless it holds a whole gzip stream, as O.save writes a
+    '.yade.gz' (YADE's O.save returns normally having written nothing or a part when the disk is
+    full or the folder is gone)."""
+    import gzip
+    import zlib
+    try:
+        if os.path.getsize(path) == 0:
+            raise OSError("nothing was written")
+        with gzip.open(path, "rb") as fh:
+            while fh.read(1 << 20):
+                pass
+    except (OSError, EOFError, zlib.error) as e:
+        raise OSError(f"saving {path} failed: {e} (disk full, or the folder gone?)") from None
+
+
 def _sha256(path):
     h = hashlib.sha256()
     with open(path, "rb") as fh:
@@ -691,6 +707,7 @@ def filled_module(params, cache_dir=None, progress=None):
             O.engines = []
             O.save(tmp)
             O.engines = engines_
+            check_saved(tmp)
             meta = dict(format=CACHE_FORMAT, key=key, bytes=os.path.getsize(tmp), sha256=_sha256(tmp))
             os.chmod(tmp, 0o644)  # mkstemp makes it 0600
             os.replace(tmp, f)

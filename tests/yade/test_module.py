@@ -378,3 +378,20 @@ def test_run_script_passes_threads_to_yade(small_run):
         r = subprocess.run(["bash", run, str(base / "bad"), "--small", "--threads", bad], capture_output=True, text=True, timeout=300, env=env, cwd=REPO)
         assert r.returncode == 1 and "--threads must be a whole number" in r.stderr, (bad, r.stderr[-2000:])
         assert not (base / "bad" / "summary.json").exists()
+
+
+def test_a_save_that_wrote_nothing_or_a_part_is_refused(tmp_path):
+    """YADE's O.save returns normally when it wrote nothing (folder gone, /dev/full) or a part
+    (disk full): the module cache checks the file it saved, the whole gzip stream, and raises
+    naming it; a whole save passes."""
+    import gzip
+    from yadeflex.module import check_saved
+    empty, part, whole = tmp_path / "empty.yade.gz", tmp_path / "part.yade.gz", tmp_path / "whole.yade.gz"
+    empty.write_bytes(b"")
+    data = gzip.compress(os.urandom(200000))
+    part.write_bytes(data[: len(data) // 2])
+    whole.write_bytes(data)
+    for f in (empty, part, tmp_path / "missing.yade.gz"):
+        with pytest.raises(OSError, match=f"saving {f} failed"):
+            check_saved(str(f))
+    check_saved(str(whole))
