@@ -248,6 +248,14 @@ def task_command(tasks_file, index):
 
 # ---- outcome of a run --------------------------------------------------------------------------
 
+def _job_options(cmd):
+    """The job's own options of a run's command (what follows --cache-dir DIR): a resume compares
+    these, not the paths of the folder, the cache or YADE (a study moved or given another cache
+    keeps its runs)."""
+    cmd = list(cmd)
+    return cmd[cmd.index("--cache-dir") + 2:] if "--cache-dir" in cmd else cmd
+
+
 def run_outcome(folder):
     """(status, task outcome or None, summary.json or None) of a run's folder. status: done,
     unstable, residual (balance residual above the limit), interrupted, failed, timeout, crashed
@@ -556,7 +564,7 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
         todo = []
         for r, t in zip(runs, run_tasks(runs, out_dir, cache_dir, timeout, yade)):
             status, outcome, _ = run_outcome(t["folder"])
-            if not (status == DONE and outcome and outcome["cmd"] == t["cmd"]):
+            if not (status == DONE and outcome and _job_options(outcome["cmd"]) == _job_options(t["cmd"])):
                 todo.append(r)
     say = progress or (lambda line: print(line, flush=True))
     kept = len(runs) - len(todo)

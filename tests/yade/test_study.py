@@ -203,6 +203,19 @@ def test_slurm_backend_gives_the_local_results(local_study, cache, tmp_path, mon
     _same_as_local(local_study, out)
 
 
+def test_resume_keeps_the_runs_of_a_moved_study_with_another_cache(local_study, tmp_path):
+    """--resume compared the runs' whole commands, absolute paths included: a study folder moved,
+    or given another --cache-dir, ran everything again. It compares the job's options now."""
+    import shutil
+    moved = str(tmp_path / "moved")
+    shutil.copytree(local_study[0], moved)
+    lines = []
+    rows = study.run_study(write_study(tmp_path / "grid.csv", GRID), moved, resume=True, cache_dir=str(tmp_path / "elsewhere"),
+                           progress=lines.append)
+    assert lines[0].startswith(f"study: {len(GRID)} runs, {len(GRID)} already done ("), lines
+    assert all(r["status"] == "done" for r in rows) and not list((tmp_path / "elsewhere").glob("*.yade.gz"))  # nothing filled, nothing run
+
+
 def test_killed_worker_loses_only_its_run_and_resume_completes_it(local_study, cache, tmp_path):
     rows = [dict(GRID[5]), dict(GRID[6], name="tight", max_residual="1e-4"), dict(GRID[7])]
     f = write_study(tmp_path / "k.csv", rows)
