@@ -287,6 +287,10 @@ class ModuleParams:
             d.pop("fill_deposition_friction_deg")
         else:  # (20 and 20.0: one fill)
             d["fill_deposition_friction_deg"] = float(d["fill_deposition_friction_deg"])
+        # the clearance between mesh and lining acts only through the lining's radius, which the
+        # rings may set instead (the small module): the radii, not the option, in the key
+        d.pop("lining_gap")
+        d["_fill_radii"] = [repr(float(x)) for x in fill_radii(self)]
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
         d["_version"] = 16  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill); 16: FlexContactGeom's crossing state saved (a file of an earlier build cannot be read)

@@ -354,8 +354,13 @@ def test_impact_settings_share_one_fill():
     base = ModuleParams().fill_key()
     for kw in (dict(timestep_safety=0.25), dict(damping=0.2), dict(boulder_mass=1200.0), dict(impact_velocity=15.0), dict(boulder_shape="sphere")):
         assert ModuleParams(**kw).fill_key() == base, kw
-    for kw in (dict(grain_max=0.05), dict(seed=2), dict(settle_damping=0.5), dict(lining=False), dict(diameter=0.8)):
+    for kw in (dict(grain_max=0.05), dict(seed=2), dict(settle_damping=0.5), dict(lining=False), dict(diameter=0.8), dict(lining_gap=0.03)):
         assert ModuleParams(**kw).fill_key() != base, kw
+    # up to about 1.5 cm the rings set the lining's radius, not the clearance: one fill (a
+    # --lining-gap made a new key there, and a needless fill)
+    small = ModuleParams.small()
+    assert ModuleParams.small(lining_gap=0.005).fill_key() == small.fill_key()
+    assert ModuleParams.small(lining_gap=0.03).fill_key() != small.fill_key()
 
 
 def test_run_script_passes_threads_to_yade(small_run):
