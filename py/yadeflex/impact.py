@@ -263,6 +263,8 @@ class ImpactRun:
               f"{sum(len(m['lining']) for m in ids['modules'])} lining facets"
               + (f" in {len(ids['modules'])} modules" if len(ids["modules"]) > 1 else ""))
         self.stage = "impact"
+        # (summary.json follows the run: a process killed outright during the impact leaves "impact")
+        write_json(self.folder.file("summary.json"), dict(status="running", stage=self.stage, pid=os.getpid()))
         self.ids, self.names, self.broken = ids, part_names(ids), BrokenElements(ids)
         self.top0 = fill_top(ids)
         self.lining_added, self.lining_own = scale_lining_nodes(ids, p.lining_node_mass)

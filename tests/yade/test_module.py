@@ -177,6 +177,24 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
     assert saved["status"] == "unstable" and saved["exit_status"] == 2
 
 
+def test_summary_says_impact_while_the_impact_runs(small_run, scene, tmp_path, monkeypatch):
+    """A run killed outright (kill -9) during the impact left summary.json saying "stage": "fill"
+    beside hundreds of impact rows: the stage is written when the impact starts."""
+    from yadeflex import impact
+    from yadeflex.module import ModuleParams
+    base, _, _ = small_run
+    out, real, seen = tmp_path / "out", impact.step_until, []
+
+    def looking(until, steps):
+        if not seen:
+            seen.append(json.loads((out / "summary.json").read_text()))
+        return real(until, steps)
+
+    monkeypatch.setattr(impact, "step_until", looking)
+    s = impact.run_impact(ModuleParams.small(), str(out), cache_dir=str(base / "cache"), progress=False, no_vtk=True, duration=0.005)
+    assert s["status"] == "done" and seen[0]["status"] == "running" and seen[0]["stage"] == "impact", seen
+
+
 def test_params_record_the_values_used(small_run):
     """params.json holds the values the run used, the fill preset's resolved (grain sizes,
     density, friction, modulus, rolling friction), and the parameters as given."""
