@@ -577,8 +577,8 @@ def run_impact(params, out, cache_dir=None, progress=True, **settings):
             run.stopped("failed", message=f"{type(e).__name__}: {e}")
         signals.hold()  # the run is over: a signal now must not cut the summary short
         summary = run.finish()
+        run.report(summary)  # (the plots too: a signal while they are drawn is only noted, so that summary.json and the exit status agree)
     finally:
         signals.restore()
         folder.close()
-    run.report(summary)
     return summary

@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from conftest import REPO
+from conftest import HERE, REPO
 from test_module import SCRIPT, _run
 from tol import G
 
@@ -108,6 +108,22 @@ def _wait_for(log, text, p, timeout=120):
         assert p.poll() is None, f"ended before {text!r}:\n" + log.read()[-3000:]
         time.sleep(0.2)
     raise AssertionError(f"no {text!r} in {timeout} s")
+
+
+@pytest.mark.parametrize("sig", ["SIGTERM", "SIGINT"])
+def test_a_signal_while_plotting_keeps_summary_and_exit_status_in_step(first_run, sig):
+    """A signal while the plots are drawn (summary.json already written, "done"): SIGTERM ended the
+    process with 143 and no plots, SIGINT with 1 and a traceback. Now the run is over and the
+    signal only noted: exit 0 as the summary says, the plots drawn."""
+    base, _, _ = first_run
+    out = base / f"plotsig_{sig}"
+    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.path.join(REPO, "py"))
+    r = subprocess.run(["yade-double", "-n", "-j1", "-x", os.path.join(HERE, "scripts", "signal_in_plots.py"), str(out), str(base / "cache"), sig],
+                       capture_output=True, text=True, timeout=600, env=env, cwd=REPO,
+                       preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    s = json.loads((out / "summary.json").read_text())
+    assert r.returncode == 0 == s["exit_status"] and s["status"] == "done", (r.returncode, s["status"], r.stderr[-2000:])
+    assert "Traceback" not in r.stderr and (out / "impact.png").exists() and (out / "energy.png").exists()
 
 
 @pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
