@@ -61,5 +61,11 @@ def run_open_run(args, timeout=600):
     cmd = cmd + [OPEN_RUN] + [str(a) for a in args]
     if not display:
         return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-    with _xdisplay().virtual_display() as d:
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=d))
+    for _ in range(3):
+        with _xdisplay().virtual_display() as d:
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=d))
+        # pvpython sometimes fails to connect to a live, new display when several render at once
+        # (1 run in 15 with three at a time here; after a retry, 33 of 33): again, on another display
+        if "bad X server connection" not in r.stderr:
+            break
+    return r
