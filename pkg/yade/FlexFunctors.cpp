@@ -29,33 +29,6 @@ namespace {
 		}
 	}
 
-	// Common tail of both Ig2: activity bookkeeping and shear take-over (see Flex.hpp).
-	// Sphere contacts: the elements beaten in the sphere's cluster (their contacts with
-	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
-	// flexa::ownsPair).
-	void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const Interaction* I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
-	        const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
-	{
-		const bool wasActive = g.lastActiveIter == scene->iter - 1;
-		g.active             = own;
-		g.handover           = false;
-		g.onsetDepth         = 0;
-		if (!own) return; // lastActiveIter untouched: neighbours may read this interaction now
-		if (!wasActive) {
-			// a contact (re)starting: it takes over the shear of the neighbour that carried it
-			// last step, or starts from zero (separation ends the shear history; never reuse a
-			// stale spring, which would bring back energy that was no longer booked)
-			Vector3r sh = Vector3r::Zero();
-			if (nPairs)
-				flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
-			else if (nb)
-				flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
-			g.handover      = true;
-			g.handoverShear = sh;
-			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
-		}
-		g.lastActiveIter = scene->iter;
-	}
 } // namespace
 
 namespace {
@@ -108,7 +81,7 @@ namespace {
 	//  5. ownership of the contact among the elements or element pairs of its cluster
 	//     (kernel/Ownership.hpp): a new pair that does not own it is not created;
 	//  6. the geometry: normal, depth, contact point, both sides, relative velocity;
-	//  7. activity bookkeeping and the shear hand-over (finishGeom).
+	//  7. activity bookkeeping and the shear hand-over (flexa::finishGeom).
 	template <class Pair> bool elementGeom(Scene* scene, const shared_ptr<Interaction>& I, bool force, Pair& p)
 	{
 		if (!I->geom && !force && flexa::markedUnreachable(scene, *I)) return false; // cannot touch before the collider runs again
@@ -148,7 +121,7 @@ namespace {
 		int                nb = 0;
 		bool               bonded() const { return false; }
 		bool               apart() const { return false; }
-		void               finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, I.getId1(), beaten, nb); }
+		void               finish(FlexContactGeom& g, bool own) { flexa::finishGeom(scene, g, own, &I, I.getId1(), beaten, nb); }
 		Vector3r           velocityAt(const Vector3r& c) const { return st1.vel + st1.angVel.cross(c - P); }
 	};
 	// Two elements: one decision per cluster of element pairs.
@@ -157,7 +130,7 @@ namespace {
 		const Interaction&                I;
 		std::pair<Body::id_t, Body::id_t> beaten[8];
 		int                               nPairs = 0;
-		void                              finish(FlexContactGeom& g, bool own) { finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
+		void                              finish(FlexContactGeom& g, bool own) { flexa::finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
 		bool ownsPair(const flexa::Element& A, const flexa::Element& B) { return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs); }
 	};
 
@@ -406,8 +379,8 @@ void Ig2_Sphere_Sphere_FlexContactGeom::update(Scene* scene, FlexContactGeom& g,
 	const Vector3r v1  = vel1 + angVel1.cross(g.contactPoint - x1);
 	const Vector3r v2  = vel2 + angVel2.cross(g.contactPoint - x2);
 	g.relVel           = v2 - v1;
-	// no element: the contact is always its own owner (separation ends it, see finishGeom)
-	finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
+	// no element: the contact is always its own owner (separation ends it, see flexa::finishGeom)
+	flexa::finishGeom(scene, g, overlap > 0, nullptr, -1, nullptr, 0);
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include "FlexProtocol.hpp"
 #include "FlexTuning.hpp"
 #include "FlexSceneCheck.hpp"
+#include "FlexSurfaces.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -84,6 +85,7 @@ bool FlexInteractionLoop::fallBack()
 void FlexInteractionLoop::action()
 {
 	flexa::checkScene(scene, this);
+	flexa::addSurfaceNodePairs(scene); // (the collider does not pair nodes: FlexSurfaces.hpp)
 	if (fallBack()) return;
 	usedFastPath          = true;
 	lawDispatcher->scene  = scene;

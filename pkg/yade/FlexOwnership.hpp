@@ -62,5 +62,33 @@ namespace flexa {
 		}
 		return false;
 	}
+	/// Common tail of every contact geometry functor: activity bookkeeping and shear take-over
+	/// (see Flex.hpp).
+	// Sphere contacts: the elements beaten in the sphere's cluster (their contacts with
+	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
+	// flexa::ownsPair).
+	inline void finishGeom(Scene* scene, FlexContactGeom& g, bool own, const Interaction* I, Body::id_t otherBody, const Body::id_t* beaten, int nb,
+	        const std::pair<Body::id_t, Body::id_t>* pairs = nullptr, int nPairs = 0)
+	{
+		const bool wasActive = g.lastActiveIter == scene->iter - 1;
+		g.active             = own;
+		g.handover           = false;
+		g.onsetDepth         = 0;
+		if (!own) return; // lastActiveIter untouched: neighbours may read this interaction now
+		if (!wasActive) {
+			// a contact (re)starting: it takes over the shear of the neighbour that carried it
+			// last step, or starts from zero (separation ends the shear history; never reuse a
+			// stale spring, which would bring back energy that was no longer booked)
+			Vector3r sh = Vector3r::Zero();
+			if (nPairs)
+				flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
+			else if (nb)
+				flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
+			g.handover      = true;
+			g.handoverShear = sh;
+			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
+		}
+		g.lastActiveIter = scene->iter;
+	}
 } // namespace flexa
 } // namespace yade

@@ -1,5 +1,6 @@
 // yade-flex adapter: the scene check (GPL-2.0-or-later). What and why: FlexSceneCheck.hpp.
 #include "FlexSceneCheck.hpp"
+#include "FlexSurfaces.hpp"
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
 #include "FlexTuning.hpp"
@@ -378,6 +379,7 @@ namespace flexa {
 			checkNodes(scene, *body[id], e.nodes, e.nNodes, isNode);
 			checkRadius(*body[id], e.radius);
 		}
+		checkSurfaceSupport(scene);
 		memo.scene     = scene;
 		memo.container = scene->interactions;
 		memo.iter      = scene->iter;

@@ -6,6 +6,7 @@
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
+#include "FlexSurfaces.hpp"
 #include "FlexTuning.hpp"
 
 #include <kernel/ClosestPoints.hpp>
@@ -75,9 +76,14 @@ namespace flexa {
 				s.mat = lastFrict;
 				if (!b->shape) continue;
 				s.shaped = true;
-				// a node (no contact radius, no element): told by its exact type first, which a
-				// failed cast to Sphere took a dynamic_cast to find (one per node and estimate)
-				if (typeid(*b->shape) == typeid(FlexNode)) continue;
+				// a node (no element; its contact radius is that of its contacts with rigid surfaces,
+				// FlexSurfaces.hpp): told by its exact type first, which a failed cast to Sphere took
+				// a dynamic_cast to find (one per node and estimate)
+				if (typeid(*b->shape) == typeid(FlexNode)) {
+					s.radius = flexa::nodeContactRadius(scene, static_cast<const FlexNode&>(*b->shape));
+					if (!(s.radius > 0)) s.radius = -1;
+					continue;
+				}
 				if (const Sphere* sp = flexa::fastCast<Sphere>(b->shape.get())) {
 					s.radius = sp->radius;
 					s.sphere = true;

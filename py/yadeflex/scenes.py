@@ -245,3 +245,84 @@ def mesh_punch(size=1.0, boulder_mass=100.0, boulder_radius=0.2, velocity=(0, 0,
     return dict(panel=p, rope=rope, boulder=s, params=dict(size=size, boulder_mass=boulder_mass, boulder_radius=boulder_radius,
                                                            velocity=tuple(v), contact_young=contact_young, edge=edge,
                                                            friction_deg=friction_deg, gap=gap))
+
+
+SURFACES = ("wall", "facets", "box")
+STRUCTURES = ("net", "sheet")
+
+
+def drop_on_surface(structure="net", surface="wall", drop=0.02, size=0.4, cells=4, contact_young=1e8, friction_deg=30.0, damping=0.0,
+                    velocity=(0, 0, 0)):
+    """A free square structure of size [m] (structure 'net': yadeflex.net of (cells + 1)^2 steel
+    nodes, wire radius 3 mm, element modulus 2e11 Pa; 'sheet': yadeflex.sheet of cells x cells
+    geotextile, 2 mm thick) held flat drop [m] above a rigid floor z = 0 and released under
+    gravity with velocity [m/s]. surface 'wall': a YADE Wall (two-sided); 'facets': a 1 m square
+    of two YADE Facets whose shared diagonal runs under the structure; 'box': a fixed YADE Box
+    1 x 1 x 0.1 m. The floor's material: FrictMat of contact_young [Pa], friction_deg [deg]; the
+    elements' contact modulus is contact_young too. Returns dict(nodes, elements, floor (ids),
+    params)."""
+    from yade import utils
+    from . import membrane as M
+    C.choice("structure", structure, STRUCTURES)
+    C.choice("surface", surface, SURFACES)
+    C.number("drop", drop, C.Range(0.0, unit="m"))
+    B._positive("size", size)
+    cells = C.integer("cells", cells, 1, 100)
+    C.number("contact_young", contact_young, MODULUS)
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    v = B.check_finite("velocity", velocity)
+    args = engine_args(damping=damping)
+    O.reset()
+    floor_mat = FrictMat(young=contact_young, poisson=0.25, density=2500.0, frictionAngle=math.radians(friction_deg), label="floor")
+    O.materials.append(floor_mat)
+    lo = 0.5 - 0.5 * size  # the structure's corner, over the middle of the 1 m floor
+    if structure == "net":
+        r = 0.003
+        mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
+        grid, elements = B.net(cells + 1, size / cells, r, mat, origin=(lo, lo, r + drop), fix_border=False)
+        nodes = [n for col in grid for n in col]
+    else:
+        r = 0.001
+        mat = M.geotextile(young=contact_young, friction_deg=friction_deg)
+        sh = M.sheet(cells, cells, (size, size), 2 * r, mat, origin=(lo, lo, r + drop), fix_border=False)
+        nodes, elements = [n for col in sh["grid"] for n in col], sh["facets"]
+    for n in nodes:
+        O.bodies[n].state.vel = v
+    if surface == "wall":
+        floor = [O.bodies.append(utils.wall(0.0, axis=2, sense=0, material=floor_mat))]
+    elif surface == "facets":
+        a, b, c, d = (0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)
+        floor = [O.bodies.append(utils.facet(t, fixed=True, material=floor_mat)) for t in ((a, b, c), (a, c, d))]
+    else:
+        floor = [O.bodies.append(utils.box((0.5, 0.5, -0.05), (0.5, 0.5, 0.05), fixed=True, material=floor_mat))]
+    O.engines = engines(gravity=args[0], damping=args[1])
+    return dict(nodes=nodes, elements=elements, floor=floor,
+                params=dict(structure=structure, surface=surface, drop=drop, size=size, cells=cells, contact_young=contact_young,
+                            friction_deg=friction_deg, damping=damping, velocity=tuple(v)))
+
+
+def block_on_net(clump=False, speed=1.0, contact_young=1e8):
+    """A rigid block smaller than the cell of the net it falls on: a net of 5 x 5 steel nodes
+    0.1 m apart (wire radius 3 mm, element modulus 2e11 Pa, border clamped) in the plane z = 0,
+    hit at the centre of a cell by a YADE Box of 0.06 m (clump: a clump of two Boxes of the same
+    outline) moving down at speed [m/s] from 7 mm above the wires; no damping. The block meets
+    the wires between their nodes, at its edges (Ig2_Box_FlexCylinder_FlexContactGeom). Returns
+    dict(nodes, cylinders, block (the clump's id if clump), members, params)."""
+    from yade import utils
+    clump = C.boolean("clump", clump)
+    C.number("speed", speed, C.Range(0.0, unit="m/s"))
+    C.number("contact_young", contact_young, MODULUS)
+    O.reset()
+    mat = steel(young=contact_young, element_young=2e11)
+    grid, cyls = B.net(5, 0.1, 0.003, mat, origin=(0.3, 0.3, 0.0), fix_border=True)
+    bm = FrictMat(young=contact_young, poisson=0.25, density=2500.0, frictionAngle=math.radians(30.0), label="block")
+    O.materials.append(bm)
+    if clump:
+        block, members = O.bodies.appendClumped([utils.box((0.5, 0.5 + dy, 0.04), (0.03, 0.015, 0.03), material=bm) for dy in (-0.015, 0.015)])
+    else:
+        block = O.bodies.append(utils.box((0.5, 0.5, 0.04), (0.03, 0.03, 0.03), material=bm))
+        members = [block]
+    O.bodies[block].state.vel = Vector3(0, 0, -speed)
+    O.engines = engines(damping=0.0)
+    return dict(nodes=[n for col in grid for n in col], cylinders=cyls, block=block, members=list(members),
+                params=dict(clump=clump, speed=speed, contact_young=contact_young))

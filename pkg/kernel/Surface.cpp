@@ -1,0 +1,165 @@
+// A node of deformable elements against a rigid surface (GPL-2.0-or-later); see Surface.hpp.
+#include "Surface.hpp"
+#include "ClosestPoints.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace flex {
+
+namespace {
+	int sideOf(double signedDistance, int side) { return side != 0 ? (side > 0 ? 1 : -1) : (signedDistance < 0 ? -1 : 1); }
+} // namespace
+
+SurfacePoint nodeOnPlane(const Vec3& x, int axis, double pos, int sense, int side)
+{
+	SurfacePoint s;
+	const double d = x[axis] - pos;
+	const int    w = sense != 0 ? (sense > 0 ? 1 : -1) : sideOf(d, side);
+	s.point        = x;
+	s.point[axis]  = pos;
+	s.normal[axis] = w;
+	s.distance     = w * d;
+	return s;
+}
+
+SurfacePoint nodeOnBox(const Vec3& x, const Vec3& ext)
+{
+	SurfacePoint s;
+	const Vec3   c = x.cwiseMax(-ext).cwiseMin(ext);
+	const Vec3   d = x - c;
+	const double n = d.norm();
+	if (n > 0) {
+		s.point    = c;
+		s.normal   = d / n;
+		s.distance = n;
+		return s;
+	}
+	// inside (or on the surface): the nearest face
+	int    k     = 0;
+	double depth = ext[0] - std::abs(x[0]);
+	for (int a = 1; a < 3; ++a)
+		if (ext[a] - std::abs(x[a]) < depth) {
+			depth = ext[a] - std::abs(x[a]);
+			k     = a;
+		}
+	const double w = x[k] < 0 ? -1 : 1;
+	s.point        = x;
+	s.point[k]     = w * ext[k];
+	s.normal[k]    = w;
+	s.distance     = -depth;
+	return s;
+}
+
+SegmentEdge segmentOnBoxEdges(const Vec3& x0, const Vec3& x1, const Vec3& ext)
+{
+	SegmentEdge  best;
+	const double d0 = nodeOnBox(x0, ext).distance, d1 = nodeOnBox(x1, ext).distance;
+	const double tol = 1e-12 * (ext.norm() + x0.norm() + x1.norm());
+	for (int axis = 0; axis < 3; ++axis) // the 4 edges along each axis
+		for (int k = 0; k < 4; ++k) {
+			Vec3 a = ext, b = ext;
+			const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+			a[i] = b[i] = (k & 1) ? ext[i] : -ext[i];
+			a[j] = b[j] = (k & 2) ? ext[j] : -ext[j];
+			a[axis]                 = -ext[axis];
+			const SegmentSegment ss = closestPointsSegments(x0, x1, a, b);
+			if (!(ss.s > 0 && ss.s < 1)) continue;
+			const SurfacePoint sp = nodeOnBox(ss.p1, ext);
+			if (!(sp.distance > 0) || (sp.point - ss.p2).norm() > tol) continue; // inside, or a face is nearer
+			if (!(sp.distance < d0 && sp.distance < d1)) continue;
+			if (best.valid && best.distance <= sp.distance) continue;
+			best.valid     = true;
+			best.u         = ss.s;
+			best.onSegment = ss.p1;
+			best.point     = sp.point;
+			best.normal    = sp.normal;
+			best.distance  = sp.distance;
+		}
+	return best;
+}
+
+SurfacePoint nodeOnTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, int side)
+{
+	SurfacePoint        s;
+	const PointTriangle pt = closestPointOnTriangle(x, a, b, c);
+	const Vec3          nf = (b - a).cross(c - a).normalized();
+	const Vec3          d  = x - pt.point;
+	s.point                = pt.point;
+	s.support              = pt.support;
+	const int w            = sideOf(d.dot(nf), side);
+	if (pt.support == 7) {
+		s.normal   = w * nf;
+		s.distance = d.dot(s.normal);
+		return s;
+	}
+	s.distance = d.norm();
+	s.normal   = s.distance > 0 ? Vec3(d / s.distance) : Vec3(w * nf);
+	return s;
+}
+
+bool onSharedFeature(const FacetHit& a, const FacetHit& b)
+{
+	double len = 0;
+	for (int k = 0; k < 3; ++k) {
+		len = std::max(len, (a.v[(k + 1) % 3] - a.v[k]).norm());
+		len = std::max(len, (b.v[(k + 1) % 3] - b.v[k]).norm());
+	}
+	const double tol = 1e-9 * len;
+	if (a.support == 7 || a.support == 0) return false; // a face point is a's own
+	for (int k = 0; k < 3; ++k) {
+		if (!(a.support & (1u << k))) continue;
+		bool found = false;
+		for (int j = 0; j < 3 && !found; ++j)
+			found = (a.v[k] - b.v[j]).norm() <= tol;
+		if (!found) return false;
+	}
+	return true;
+}
+
+bool ownsFacetCluster(const FacetHit* hit, int n, int self, int* beaten, int& nBeaten)
+{
+	nBeaten = 0;
+	if (!(hit[self].overlap > 0)) return false;
+	// the cluster of self: breadth-first over links among the touching contacts
+	constexpr int kMax = 64;
+	if (self >= kMax) return false; // (the adapter passes at most kMax, self among them)
+	int           queue[kMax];
+	bool          in[kMax] = {};
+	const int     m        = std::min(n, kMax);
+	int           head = 0, tail = 0;
+	queue[tail++] = self;
+	in[self]      = true;
+	while (head < tail) {
+		const int i = queue[head++];
+		for (int j = 0; j < m; ++j) {
+			if (in[j] || !(hit[j].overlap > 0)) continue;
+			if (onSharedFeature(hit[i], hit[j]) || onSharedFeature(hit[j], hit[i])) {
+				in[j]         = true;
+				queue[tail++] = j;
+			}
+		}
+	}
+	// the owner: the lowest id among the members within round-off of the deepest (the overlaps of
+	// two facets at their shared edge agree only to round-off, computed from vertices stored
+	// apart: without the tolerance the owner would flip from step to step as a node moves along it)
+	double deepest = hit[self].overlap, len = 0;
+	for (int q = 0; q < tail; ++q) {
+		const FacetHit& h = hit[queue[q]];
+		deepest           = std::max(deepest, h.overlap);
+		for (int k = 0; k < 3; ++k)
+			len = std::max(len, (h.v[(k + 1) % 3] - h.v[k]).norm());
+	}
+	const double tol   = 1e-9 * len;
+	int          owner = -1;
+	for (int q = 0; q < tail; ++q) {
+		const int j = queue[q];
+		if (hit[j].overlap >= deepest - tol && (owner < 0 || hit[j].id < hit[owner].id)) owner = j;
+	}
+	if (owner != self) return false;
+	for (int q = 0; q < tail; ++q)
+		if (queue[q] != self && nBeaten < 8) beaten[nBeaten++] = hit[queue[q]].id;
+	return true;
+}
+
+} // namespace flex

@@ -1,0 +1,88 @@
+// A node of deformable elements against a rigid surface: a plane (YADE's Wall), a box, a
+// triangle (YADE's Facet) (GPL-2.0-or-later).
+//
+// Why nodes: the elements are capsules (a segment and a radius r) and thick triangles (a
+// triangle and a half-thickness r). Against a plane, the deepest point of a capsule or of a
+// thick triangle is always one of its nodes (the distance to a plane is linear along the
+// element, so its minimum is at a vertex; when it ties, every point of the tie is as deep as
+// the nodes), so the contacts of a structure with a plane are exactly the contacts of its node
+// spheres, one per node, with the largest radius of the elements on the node. Per element they
+// would count a node once per element on it (a chain lying on a floor pushes twice at each
+// node) and carry one point of a line contact. A box face or a facet's face is a plane in its
+// region, so the same holds there. Between its nodes an element meets a box at an edge
+// (segmentOnBoxEdges); an element that spans a facet's edge between its nodes is not met (the
+// limit stated in the README).
+//
+// A surface made of several facets: a node over a shared edge or vertex touches each facet at
+// the same point with the same overlap, and a node over one facet's face near its edge still
+// touches the neighbour at that edge, more shallowly. As for elements (kernel/Ownership.hpp),
+// two facet contacts of one node are LINKED when the closest point on either lies on what the two
+// facets share (an edge or vertex, vertices equal within a relative 1e-9: the facets of a surface
+// store their vertices apart); linked contacts, closed transitively, are one contact, carried by
+// the deepest (ties, within 1e-9 of the longest edge: the lower id). At a shared edge both overlaps are equal, so a hand-over
+// there neither creates nor destroys spring energy. A node in a valley touches both faces at
+// distinct points: two contacts.
+#pragma once
+#include "Triangle.hpp"
+#include "Types.hpp"
+
+namespace flex {
+
+/// A node sphere's centre x against a surface: the closest point on the surface, the unit
+/// normal from the surface towards x, and the distance of x from the surface along that
+/// normal (negative: x is behind the plane or inside the box). The overlap of a node of
+/// contact radius r is r - distance.
+struct SurfacePoint {
+	Vec3     point    = Vec3::Zero();
+	Vec3     normal   = Vec3::Zero();
+	double   distance = 0;
+	unsigned support  = 7; ///< a triangle: the vertices carrying the point (7: its face); else 7
+};
+
+/// The plane x[axis] = pos (YADE's Wall). sense: +1 (-1) only the positive (negative) side
+/// pushes, 0 both; a two-sided plane pushes towards the side given by `side` (+1 or -1; 0: the
+/// side x is on now, +1 on the plane): a contact keeps the side it started from, so a node
+/// pushed through the plane is pushed back.
+SurfacePoint nodeOnPlane(const Vec3& x, int axis, double pos, int sense, int side);
+
+/// A box of half-sizes ext centred at the origin, x in the box's frame. Outside: the closest
+/// point of the box. Inside: the closest point of the nearest face, distance negative.
+SurfacePoint nodeOnBox(const Vec3& x, const Vec3& ext);
+
+/// The contact of an element's interior with a box edge: the segment (x0, x1) in the box's frame
+/// (half-sizes ext). A box's face can meet a capsule's interior only where its deepest point is a
+/// node (a plane: above); between its nodes an element meets the box at an edge (a wire draped
+/// over a block, a small block on a coarse net). valid: the box's closest point to the
+/// segment lies on an edge, at an interior point u of the segment (0 < u < 1), outside the box,
+/// and nearer than both nodes (at u -> 0 or 1 the contact becomes the node's, at the same
+/// distance). point: on the edge; normal: from the edge to the segment's point.
+struct SegmentEdge {
+	bool   valid = false;
+	double u     = 0;
+	Vec3   onSegment = Vec3::Zero(), point = Vec3::Zero(), normal = Vec3::Zero();
+	double distance = 0;
+};
+SegmentEdge segmentOnBoxEdges(const Vec3& x0, const Vec3& x1, const Vec3& ext);
+
+/// The triangle (a, b, c), of face normal nf = (b-a)x(c-a) normalized. In the face region the
+/// normal is +-nf, towards `side` (+1: nf, -1: -nf; 0: the side x is on now, +1 on the plane),
+/// distance signed as for a plane; in an edge or vertex region, from the closest point to x
+/// (on the plane's side `side` when x lies on the triangle's boundary).
+SurfacePoint nodeOnTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, int side);
+
+/// One facet contact of a node, for the ownership among the node's facet contacts.
+struct FacetHit {
+	int      id = -1;  ///< the facet's body id
+	double   overlap;  ///< r - distance
+	Vec3     v[3];     ///< the facet's vertices
+	unsigned support;  ///< SurfacePoint::support
+};
+/// Whether the closest point of contact a lies on what facets a and b share: every vertex of
+/// a's support coincides with a vertex of b (within 1e-9 of the longer edge of the two).
+bool onSharedFeature(const FacetHit& a, const FacetHit& b);
+/// Whether hit[self] carries its cluster's contact among the node's facet contacts hit[0..n)
+/// (those with overlap > 0 take part; see the top of this file; n <= 64). If so, the other members of
+/// the cluster are in beaten (ids, at most 8 kept).
+bool ownsFacetCluster(const FacetHit* hit, int n, int self, int* beaten, int& nBeaten);
+
+} // namespace flex

@@ -1,0 +1,342 @@
+// yade-flex adapter: deformable elements against YADE's Wall, Box and Facet (GPL-2.0-or-later).
+// See FlexSurfaces.hpp; the numerics are in pkg/kernel/Surface.hpp.
+#include "FlexSurfaces.hpp"
+#include "FlexElements.hpp"
+#include "FlexOwnership.hpp"
+#include "FlexProtocol.hpp"
+#include <kernel/Contact.hpp>
+#include <kernel/Surface.hpp>
+
+#include <core/InteractionLoop.hpp>
+#include <lib/factory/ClassFactory.hpp>
+
+#include <algorithm>
+#include <sstream>
+
+namespace yade {
+
+YADE_PLUGIN((Ig2_Wall_FlexNode_FlexContactGeom)(Ig2_Box_FlexNode_FlexContactGeom)(Ig2_Box_FlexCylinder_FlexContactGeom)(Ig2_Facet_FlexNode_FlexContactGeom));
+
+namespace flexa {
+	Real nodeContactRadius(const Scene* scene, const FlexNode& node)
+	{
+		Real r = 0;
+		for (int id : node.elements) {
+			const Element e = elementOf(scene, id);
+			if (e.nNodes) r = std::max(r, Real(e.radius));
+		}
+		return r;
+	}
+} // namespace flexa
+
+namespace {
+	bool cannotMove(const Body& b) { return !b.isDynamic() || (b.state->blockedDOFs & State::DOF_XYZ) == State::DOF_XYZ; }
+
+	// The facet's vertices in the world frame.
+	void facetVertices(const Facet& f, const State& s, Vector3r v[3])
+	{
+		for (int k = 0; k < 3; ++k)
+			v[k] = s.pos + s.ori * f.vertices[k];
+	}
+	Vector3r facetNormal(const Vector3r v[3]) { return (v[1] - v[0]).cross(v[2] - v[0]).normalized(); }
+
+	// The side (+1, -1) a contact with previous normal `prev` was pushing towards along n; 0: new.
+	int keptSide(bool isNew, const Vector3r& prev, const Vector3r& n) { return isNew ? 0 : (prev.dot(n) < 0 ? -1 : 1); }
+
+	// The contact of a node with a surface, once the surface point is known. Fills g as the other
+	// element contacts do (kernel/Surface.hpp: the node is side 2, a zero-length segment on it, so
+	// that the law spreads the force and moment to the node alone; the surface is side 1, rigid).
+	void fillNodeContact(FlexContactGeom& g, const flex::SurfacePoint& sp, Real r, Body::id_t nodeId, const State& sS, const State& sN)
+	{
+		const Real overlap = r - sp.distance;
+		g.normal           = sp.normal;
+		g.penetrationDepth = overlap;
+		g.refR1            = r;
+		g.refR2            = r;
+		g.contactPoint     = sp.point - 0.5 * overlap * sp.normal;
+		g.nodes1           = Vector2i(-1, -1);
+		g.nodes2           = Vector2i(nodeId, nodeId);
+		g.tri1 = g.tri2 = Vector3i(-1, -1, -1);
+		g.u1 = g.u2    = 0;
+		g.axis1        = sS.pos;
+		g.axis2        = sN.pos;
+		const Vector3r v1 = sS.vel + sS.angVel.cross(g.contactPoint - sS.pos);
+		const Vector3r v2 = sN.vel + sN.angVel.cross(g.contactPoint - sN.pos);
+		g.relVel          = v2 - v1;
+	}
+
+	// The steps of the three functors: the node's radius, the surface point (where(isNew, prev
+	// normal) -> SurfacePoint), the ownership (owns(sp, overlap, beaten, nb)), the geometry.
+	template <class Where, class Owns>
+	bool nodeGeom(Scene* scene, const shared_ptr<Interaction>& I, const State& sS, const FlexNode& node, const State& sN, bool force, Where where, Owns owns)
+	{
+		const bool isNew = !I->geom;
+		const Real r     = flexa::nodeContactRadius(scene, node);
+		if (!(r > 0)) { // every element on the node is gone
+			if (isNew) return false;
+			static_cast<FlexContactGeom&>(*I->geom).active = false;
+			return true;
+		}
+		const flex::SurfacePoint sp      = where(isNew, isNew ? Vector3r::Zero() : Vector3r(static_cast<FlexContactGeom&>(*I->geom).normal), r);
+		const Real               overlap = r - sp.distance;
+		if (isNew && overlap <= 0 && !force) return false;
+		Body::id_t beaten[8];
+		int        nb  = 0;
+		const bool own = overlap > 0 && owns(sp, r, beaten, nb);
+		if (isNew && !own) return false;
+		if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+		FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+		fillNodeContact(g, sp, r, I->getId2(), sS, sN);
+		flexa::finishGeom(scene, g, own, I.get(), I->getId2(), beaten, nb);
+		return true;
+	}
+	bool alone(const flex::SurfacePoint&, Real, Body::id_t*, int& nb)
+	{
+		nb = 0;
+		return true;
+	}
+
+	// The node's contact with facet body b as the ownership compares it: the same arithmetic
+	// whoever asks (the side the node is on now).
+	flex::FacetHit facetHit(const Body& b, const Facet& f, const Vector3r& x, Real r)
+	{
+		flex::FacetHit h;
+		h.id = b.id;
+		facetVertices(f, *b.state, h.v);
+		const flex::SurfacePoint sp = flex::nodeOnTriangle(x, h.v[0], h.v[1], h.v[2], 0);
+		h.overlap                   = r - sp.distance;
+		h.support                   = sp.support;
+		return h;
+	}
+} // namespace
+
+bool Ig2_Wall_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Wall_FlexNode_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Wall& w     = static_cast<const Wall&>(*cm1);
+	const auto  where = [&](bool isNew, const Vector3r& prev, Real) {
+                const Vector3r e = Vector3r::Unit(w.axis);
+                return flex::nodeOnPlane(sN.pos, w.axis, sS.pos[w.axis], w.sense, keptSide(isNew, prev, e));
+	};
+	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, alone);
+}
+
+bool Ig2_Box_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Box_FlexNode_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Box& box   = static_cast<const Box&>(*cm1);
+	const auto where = [&](bool, const Vector3r&, Real) {
+		flex::SurfacePoint sp = flex::nodeOnBox(sS.ori.conjugate() * (sN.pos - sS.pos), box.extents);
+		sp.point              = sS.pos + sS.ori * sp.point;
+		sp.normal             = sS.ori * sp.normal;
+		return sp;
+	};
+	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, alone);
+}
+
+bool Ig2_Box_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Box_FlexCylinder_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Box&          box   = static_cast<const Box&>(*cm1);
+	const FlexCylinder& c     = static_cast<const FlexCylinder&>(*cm2);
+	const bool          isNew = !I->geom;
+	const State *       sa = flexa::stateOf(scene, c.node1), *sb = flexa::stateOf(scene, c.node2);
+	flex::SegmentEdge   e;
+	if (sa && sb) {
+		const Quaternionr q = sS.ori.conjugate();
+		e                   = flex::segmentOnBoxEdges(q * (sa->pos - sS.pos), q * (sb->pos - sS.pos), box.extents);
+	}
+	const Real overlap = c.radius - e.distance;
+	const bool own     = e.valid && overlap > 0;
+	if (isNew && !own && !force) return false;
+	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+	if (e.valid) { // (else it ends with the geometry of its last step: passed to a node at the same overlap, or apart)
+		const Vector3r n = sS.ori * e.normal, pe = sS.pos + sS.ori * e.point, pa = sS.pos + sS.ori * e.onSegment;
+		g.normal           = n;
+		g.penetrationDepth = overlap;
+		g.refR1 = g.refR2  = c.radius;
+		g.contactPoint     = pe - 0.5 * overlap * n;
+		g.nodes1           = Vector2i(-1, -1);
+		g.nodes2           = Vector2i(c.node1, c.node2);
+		g.tri1 = g.tri2 = Vector3i(-1, -1, -1);
+		g.u1            = 0;
+		g.u2            = e.u;
+		g.axis1         = sS.pos;
+		g.axis2         = pa;
+		const Vector3r v1 = sS.vel + sS.angVel.cross(g.contactPoint - sS.pos);
+		const Vector3r v2 = flex::segmentPointVelocity(e.u, pa, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
+		g.relVel          = v2 - v1;
+	}
+	flexa::finishGeom(scene, g, own, I.get(), -1, nullptr, 0);
+	return true;
+}
+
+bool Ig2_Facet_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Facet_FlexNode_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Facet& f = static_cast<const Facet&>(*cm1);
+	Vector3r     v[3];
+	facetVertices(f, sS, v);
+	const auto where = [&](bool isNew, const Vector3r& prev, Real) {
+		return flex::nodeOnTriangle(sN.pos, v[0], v[1], v[2], keptSide(isNew, prev, facetNormal(v)));
+	};
+	// one contact per point of the facet surface: among the node's facet pairs (its other
+	// interactions: the loop does not change the maps it reads), computed from the geometry alone
+	const auto owns = [&](const flex::SurfacePoint& sp, Real r, Body::id_t* beaten, int& nb) {
+		nb                  = 0;
+		const Body* nodeB   = flexa::bodyAt(scene, I->getId2());
+		const Body* surface = flexa::bodyAt(scene, I->getId1());
+		if (!nodeB || !surface) return true;
+		constexpr int  kMax = 64;
+		flex::FacetHit hit[kMax];
+		int            n = 0, self = -1;
+		for (const auto& kv : nodeB->intrs) {
+			if (n == kMax) break;
+			const Body* b = flexa::bodyAt(scene, kv.first);
+			if (!b || !b->shape) continue;
+			const Facet* of = flexa::fastCast<Facet>(b->shape.get());
+			if (!of) continue;
+			hit[n] = facetHit(*b, *of, sN.pos, r);
+			if (b->id == surface->id) {
+				self = n;
+				// a node pushed past the facet's plane: its own contact's overlap
+				if (!(hit[n].overlap > 0)) hit[n].overlap = r - sp.distance;
+			}
+			if (hit[n].overlap > 0 || b->id == surface->id) ++n;
+		}
+		if (self < 0) return true;
+		int ids[8];
+		const bool o = flex::ownsFacetCluster(hit, n, self, ids, nb);
+		for (int k = 0; k < nb; ++k)
+			beaten[k] = ids[k];
+		return o;
+	};
+	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, owns);
+}
+
+namespace flexa {
+	namespace {
+		enum class SurfaceKind { none, wall, box, facet, other };
+		SurfaceKind kindOf(const Shape* sh)
+		{
+			if (!sh) return SurfaceKind::none;
+			if (fastCast<Sphere>(sh) || fastCast<FlexNode>(sh) || elementOf(sh).nNodes) return SurfaceKind::none;
+			if (fastCast<Wall>(sh)) return SurfaceKind::wall;
+			if (fastCast<Box>(sh)) return SurfaceKind::box;
+			if (fastCast<Facet>(sh)) return SurfaceKind::facet;
+			return SurfaceKind::other;
+		}
+		struct SurfaceMemo {
+			const Scene*                scene     = nullptr;
+			const InteractionContainer* container = nullptr;
+			long                        runs = -2, bodies = -1;
+			size_t                      size = 0;
+			std::vector<Body::id_t>     surfaces;
+		};
+	} // namespace
+
+	long addSurfaceNodePairs(Scene* scene)
+	{
+		static SurfaceMemo m;
+		const long         runs   = insertionSortColliderRuns(scene);
+		const long         bodies = (long)scene->bodies->size();
+		const bool         same   = m.scene == scene && m.container == scene->interactions.get() && m.bodies == bodies;
+		if (same && runs >= 0 && runs == m.runs && m.size == scene->interactions->size()) return 0;
+		if (!same) {
+			m.surfaces.clear();
+			for (const auto& b : *scene->bodies)
+				if (b) {
+					const SurfaceKind k = kindOf(b->shape.get());
+					if (k == SurfaceKind::wall || k == SurfaceKind::box || k == SurfaceKind::facet) m.surfaces.push_back(b->id);
+				}
+		}
+		std::vector<std::pair<Body::id_t, Body::id_t>> want;
+		std::vector<shared_ptr<Interaction>>           stale;
+		for (Body::id_t sid : m.surfaces) {
+			const Body* s = bodyAt(scene, sid);
+			if (!s) continue;
+			const bool sFixed = cannotMove(*s);
+			const auto first  = want.size();
+			for (const auto& kv : s->intrs) {
+				const Body* b = bodyAt(scene, kv.first);
+				if (!b) continue;
+				const Element e = elementOf(b->shape.get());
+				for (int k = 0; k < e.nNodes; ++k) {
+					const Body* nb = bodyAt(scene, e.nodes[k]);
+					if (nb && !(sFixed && cannotMove(*nb))) want.emplace_back(sid, e.nodes[k]);
+				}
+			}
+			std::sort(want.begin() + first, want.end());
+			want.erase(std::unique(want.begin() + first, want.end()), want.end());
+			for (const auto& kv : s->intrs) {
+				const Body* b = bodyAt(scene, kv.first);
+				if (!b || !fastCast<FlexNode>(b->shape.get()) || kv.second->isReal()) continue;
+				if (!std::binary_search(want.begin() + first, want.end(), std::make_pair(sid, kv.first))) stale.push_back(kv.second);
+			}
+		}
+		long made = 0;
+		for (const auto& I : stale) // (an erasure moves the last interaction to its place: linIx read now)
+			scene->interactions->erase(I->getId1(), I->getId2(), I->linIx);
+		for (const auto& p : want)
+			if (!scene->interactions->found(p.first, p.second)) {
+				const shared_ptr<Interaction> I(new Interaction(p.first, p.second));
+				I->iterLastSeen = scene->iter; // (as the collider marks the pairs it sees)
+				scene->interactions->insert(I);
+				++made;
+			}
+		m.scene     = scene;
+		m.container = scene->interactions.get();
+		m.runs      = runs;
+		m.bodies    = bodies;
+		m.size      = scene->interactions->size();
+		return made;
+	}
+
+	void checkSurfaceSupport(const Scene* scene)
+	{
+		const Body* element = nullptr;
+		const Body* surface[3] { nullptr, nullptr, nullptr };
+		for (const auto& b : *scene->bodies)
+			if (b && b->shape && elementOf(b->shape.get()).nNodes) {
+				element = b.get();
+				break;
+			}
+		if (!element) return;
+		const InteractionLoop* loop = nullptr;
+		for (const auto& e : scene->engines)
+			if ((loop = dynamic_cast<const InteractionLoop*>(e.get()))) break;
+		const auto has = [&](const char* name) {
+			if (!loop || !loop->geomDispatcher) return false;
+			for (const auto& f : loop->geomDispatcher->functors)
+				if (f && f->getClassName() == name) return true;
+			return false;
+		};
+		const char* names[3] = { "Ig2_Wall_FlexNode_FlexContactGeom", "Ig2_Box_FlexNode_FlexContactGeom", "Ig2_Facet_FlexNode_FlexContactGeom" };
+		const char* extra[3] = { nullptr, "Ig2_Box_FlexCylinder_FlexContactGeom", nullptr };
+		for (const auto& b : *scene->bodies) {
+			if (!b || !b->shape || b->isClump()) continue;
+			const SurfaceKind k = kindOf(b->shape.get());
+			std::ostringstream os;
+			if (k == SurfaceKind::other) {
+				os << "body #" << b->id << " is a " << b->shape->getClassName() << ", which yade-flex elements cannot touch (element #" << element->id
+				   << " would pass through it): use Wall, Box, Facet or Sphere bodies for what the elements meet";
+				throw std::invalid_argument(os.str());
+			}
+			const int i = k == SurfaceKind::wall ? 0 : k == SurfaceKind::box ? 1 : k == SurfaceKind::facet ? 2 : -1;
+			if (i < 0 || surface[i]) continue;
+			surface[i] = b.get();
+			for (const char* name : { names[i], extra[i] })
+				if (name && !has(name)) {
+					os << "body #" << b->id << " is a " << b->shape->getClassName() << " and the interaction loop has no " << name << ": element #"
+					   << element->id << " would pass through it; use yadeflex.engines(), or add " << name << "() to the loop's geometry functors";
+					throw std::invalid_argument(os.str());
+				}
+		}
+	}
+} // namespace flexa
+} // namespace yade

@@ -1,0 +1,177 @@
+"""Elements against YADE's rigid surfaces: a net of wires and a geotextile sheet on a Wall, on a
+floor of two Facets and on a Box (yadeflex.scenes.drop_on_surface, as a user builds it). Each
+node meets the surface once (pkg/kernel/Surface.hpp); asserted against the analytic bounce of a
+linear spring, the statics of a structure at rest, and the energy balance."""
+import math
+
+import pytest
+from yade import O
+from yade.wrapper import InteractionLoop, FlexInteractionLoop
+
+import yadeflex as yf
+from yadeflex import scenes
+
+CASES = [(st, su) for st in scenes.STRUCTURES for su in scenes.SURFACES]
+IDS = [f"{st}-{su}" for st, su in CASES]
+
+
+def _floor_contacts(s):
+    """{node id: [its active contacts with the floor]}."""
+    out = {n: [] for n in s["nodes"]}
+    for i in O.interactions:
+        if not i.isReal or not i.geom.active:
+            continue
+        if i.id1 in s["floor"] and i.id2 in out:
+            out[i.id2].append(i)
+    return out
+
+
+def _in_contact(s):
+    return any(_floor_contacts(s).values())
+
+
+# Dropped on its face, every node of the structure lands on its own linear spring: the contact
+# lasts (pi + 2 atan(g / (w v))) / w with w = sqrt(kn / m) and v the landing speed, and the
+# structure leaves with the energy it landed with (no damping: O.energy.total() in flight, a few
+# steps after the contact, past the crossing correction's two steps, against its value before).
+# A net of one cell: four nodes of equal mass land together (a sheet's nodes differ in mass and
+# part at different times, coupled by the fabric; its balance is the next test's).
+@pytest.mark.parametrize("surface", scenes.SURFACES)
+def test_landing_is_the_bounce_of_a_linear_spring(scene, surface):
+    structure = "net"
+    s = scenes.drop_on_surface(structure, surface, drop=0.001, cells=1, velocity=(0, 0, -0.5), friction_deg=0.0)
+    O.trackEnergy = True
+    n = s["nodes"][0]
+    g = 9.81
+    st = O.bodies[n].state
+    before = None
+    while True:
+        yf.step_until(math.inf, 1)
+        if _in_contact(s):
+            break
+        before, e_before = 0.5 * st.vel.squaredNorm() + g * st.pos[2], O.energy.total()
+        assert O.time < 0.05, "the structure never reached the floor"
+    landing = math.sqrt(2 * (before - g * st.pos[2]))  # the speed at the first overlap
+    t0, steps, kn = O.time - O.dt, 0, None
+    while any(_floor_contacts(s)[m] for m in s["nodes"]):
+        if _floor_contacts(s)[n]:
+            (c,) = _floor_contacts(s)[n]
+            kn, t1 = c.phys.kn, O.time
+        assert min(O.bodies[m].state.pos[2] for m in s["nodes"]) > 0, "a node passed through the floor"
+        yf.step_until(math.inf, 1)
+        steps += 1
+        assert steps < 100000, "the structure never left the floor"
+    lasted = t1 - t0
+    yf.step_until(math.inf, 4)
+    w = math.sqrt(kn / st.mass)
+    expected = (math.pi + 2 * math.atan(g / (w * landing))) / w
+    assert abs(lasted - expected) <= 2 * O.dt + 0.01 * expected, f"contact lasted {lasted:.3e} s, a linear spring {expected:.3e} s"
+    ke = 0.5 * sum(O.bodies[m].state.mass for m in s["nodes"]) * landing ** 2
+    assert O.energy.total() == pytest.approx(e_before, abs=0.01 * ke), f"the structure landed with {ke:.3e} J"
+
+
+# At rest on the floor, each node touches it through exactly one contact, whichever facet of the
+# floor it lies on (the nodes on the floor's diagonal lie on both facets' shared edge), and the
+# floor carries the structure's weight; a node of the sheet (no bending stiffness) carries its
+# own weight (the net's bars bend a little as nodes of different mass sink differently).
+@pytest.mark.parametrize("structure,surface", CASES, ids=IDS)
+def test_resting_structure_carries_each_node_once(scene, structure, surface):
+    s = scenes.drop_on_surface(structure, surface, drop=0.002, damping=0.6)
+    yf.step_until(0.3, 10 ** 6)
+    speed = max(O.bodies[n].state.vel.norm() for n in s["nodes"])
+    assert speed < 1e-3, f"not at rest: {speed:.2e} m/s"
+    per_node = _floor_contacts(s)
+    counts = {n: len(c) for n, c in per_node.items()}
+    assert set(counts.values()) == {1}, f"contacts per node: {sorted(set(counts.values()))}"
+    if surface == "facets":
+        on_diagonal = [n for n in s["nodes"] if abs(O.bodies[n].state.pos[0] - O.bodies[n].state.pos[1]) < 1e-9]
+        assert len(on_diagonal) >= 2, "no node lies on the facets' shared edge"
+    total = sum(O.bodies[n].state.mass for n in s["nodes"]) * 9.81
+    assert sum(c.phys.normalForce.norm() for (c,) in per_node.values()) == pytest.approx(total, rel=0.01)
+    if structure == "sheet":
+        for n, (c,) in per_node.items():
+            assert c.phys.normalForce.norm() == pytest.approx(O.bodies[n].state.mass * 9.81, rel=0.01), f"node {n}"
+    assert sum(O.forces.f(f)[2] for f in s["floor"]) == pytest.approx(-total, rel=0.01)
+    assert min(O.bodies[n].state.pos[2] for n in s["nodes"]) > 0
+
+
+# No damping: what the structure gains or loses over its bounces, compared when it is in flight
+# (no contact at either end of a step), stays within 1% of the energy of the drop; also with a
+# floor as stiff as steel on steel (the time step counts the node contacts).
+@pytest.mark.parametrize("structure,surface,young", [c + (1e8,) for c in CASES] + [("net", "wall", 2e11)],
+                         ids=IDS + ["net-wall-steel"])
+def test_bounces_close_the_energy(scene, structure, surface, young):
+    s = scenes.drop_on_surface(structure, surface, drop=0.01, contact_young=young)
+    O.trackEnergy = True
+    yf.step_until(math.inf, 1)
+    tot0 = O.energy.total()
+    drop = sum(O.bodies[n].state.mass for n in s["nodes"]) * 9.81 * 0.01
+    worst, landings, was = 0.0, 0, False
+    while O.time < 0.15:
+        yf.step_until(math.inf, 1)
+        now = _in_contact(s)
+        if now and not was:
+            landings += 1
+        if not now and not was:
+            worst = max(worst, abs(O.energy.total() - tot0))
+        was = now
+        assert min(O.bodies[n].state.pos[2] for n in s["nodes"]) > 0, "a node passed through the floor"
+    assert landings >= 2, f"{landings} landings"
+    assert worst <= 0.01 * drop, f"residual in flight {worst:.2e} J = {100 * worst / drop:.2f}% of the drop's {drop:.2e} J"
+
+
+def test_engines_carry_the_surface_functors(scene):
+    names = {type(f).__name__ for f in yf.engines()[2].geomDispatcher.functors}
+    assert {"Ig2_Wall_FlexNode_FlexContactGeom", "Ig2_Box_FlexNode_FlexContactGeom", "Ig2_Facet_FlexNode_FlexContactGeom"} <= names
+
+
+# Elements and a surface the interaction loop cannot make them touch: refused at the first step,
+# naming the functor, instead of falling through without a word.
+@pytest.mark.parametrize("surface,functor", [("wall", "Ig2_Wall_FlexNode_FlexContactGeom"), ("facets", "Ig2_Facet_FlexNode_FlexContactGeom"),
+                                             ("box", "Ig2_Box_FlexNode_FlexContactGeom")])
+def test_a_loop_without_the_surface_functor_is_refused(scene, surface, functor):
+    scenes.drop_on_surface("net", surface)
+    loop = O.engines[2]
+    kept = [f for f in loop.geomDispatcher.functors if type(f).__name__ != functor]
+    O.engines = O.engines[:2] + [FlexInteractionLoop(kept, loop.physDispatcher.functors, loop.lawDispatcher.functors)] + O.engines[3:]
+    with pytest.raises(ValueError, match=functor):
+        O.step()
+    scenes.drop_on_surface("net", surface)
+    O.engines = O.engines[:2] + [InteractionLoop(kept, loop.physDispatcher.functors, loop.lawDispatcher.functors)] + O.engines[3:]
+    with pytest.raises(ValueError, match=functor):
+        O.step()
+
+
+def test_a_shape_elements_cannot_touch_is_refused(scene):
+    from yade import wrapper
+    scenes.drop_on_surface("net", "wall")
+    other = next(getattr(wrapper, c) for c in ("Tetra", "Polyhedra", "PFacet") if hasattr(wrapper, c))
+    b = wrapper.Body()
+    b.shape = other()
+    b.material = O.materials[0]
+    b.state.blockedDOFs = "xyzXYZ"
+    O.bodies.append(b)
+    with pytest.raises(ValueError, match=f"is a {other.__name__}, which yade-flex elements cannot touch"):
+        O.step()
+
+
+# A block smaller than a cell of the net meets the wires between their nodes, at its edges: it is
+# caught and thrown back (no damping), with the energy balance closed to 1% of its impact energy
+# at every step; a clump of two boxes as well (its members' forces go to the clump).
+@pytest.mark.parametrize("clump", [False, True], ids=["box", "clump"])
+def test_block_smaller_than_a_cell_is_caught_by_the_wires(scene, clump):
+    s = scenes.block_on_net(clump=clump)
+    st = O.bodies[s["block"]].state
+    O.trackEnergy = True
+    yf.step_until(math.inf, 1)
+    tot0, ke = O.energy.total(), 0.5 * st.mass * st.vel.squaredNorm()
+    worst, lowest, edges = 0.0, math.inf, 0
+    while st.vel[2] <= 0:
+        yf.step_until(math.inf, 1)
+        worst = max(worst, abs(O.energy.total() - tot0))
+        lowest = min(lowest, st.pos[2])
+        edges = max(edges, sum(1 for i in O.interactions if i.geom.active and i.id1 in s["members"] and i.id2 in s["cylinders"]))
+        assert O.time < 0.1, f"the block passed the net (centre at z = {st.pos[2]:.3f} m)"
+    assert edges >= 2, "the wires did not meet the block at its edges"
+    assert lowest - 0.03 > -0.01, f"the block's underside reached z = {lowest - 0.03:.4f} m"
+    assert worst <= 0.01 * ke, f"energy residual {worst:.2e} J = {100 * worst / ke:.2f}% of the impact energy {ke:.3f} J"
