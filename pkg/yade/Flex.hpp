@@ -346,7 +346,9 @@ public:
 		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact (for comparisons)."))
 		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
 		((bool, prefetch, true, , "Ask for the interactions' data a few iterations ahead in the loop over interactions (same results; False: for comparisons)"))
-		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]")),
+		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]"))
+		((Real, minDtFraction, 0, , "Stop the run (yadeflex.Unstable, naming the stiffest body) when the critical step falls below this fraction of dtReference: a collapsed step (a crushed facet, a light node under a stiff contact) would run on for ever at a vanishing step; 0: never [-]"))
+		((Real, dtReference, 0, , "The critical step minDtFraction compares with; 0: the next estimate sets it (set it to 0 to start again, e.g. at an impact) [s]")),
 		,
 		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")
 		.def("omega2Bonds", &FlexTimeStepper::omega2Bonds, "Bound of the largest omega^2 from bonds [1/s^2]")

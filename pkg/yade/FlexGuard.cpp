@@ -1,5 +1,6 @@
 // yade-flex adapter: FlexGuard (GPL-2.0-or-later). Definitions: FlexGuard.hpp.
 #include "FlexGuard.hpp"
+#include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
 
 #include <core/EnergyTracker.hpp>
@@ -157,7 +158,7 @@ void FlexGuard::fail(const std::string& what, const std::vector<Body::id_t>& ids
 	// Leave the scene as the previous step left it: nothing of this step has run (the guard is
 	// first), and subStep back to "between steps" so that a later O.step() starts a full step.
 	scene->subStep = -1;
-	throw std::runtime_error(message);
+	throw flexa::Unstable(message);
 }
 
 void FlexGuard::action()

@@ -28,8 +28,8 @@
 // Forces added from Python each step (O.forces.addF in a PyRunner) are external work the guard
 // cannot see: such scenes need energyTolerance = inf (or the work booked in O.energy).
 //
-// On detection: `message` and `bodies` are set and std::runtime_error is thrown, which O.step()
-// raises as RuntimeError and O.run() reports through O.wait() (and O.run(n, True)). The guard
+// On detection: `message` and `bodies` are set and flexa::Unstable is thrown, which O.step()
+// raises as yadeflex.Unstable (a RuntimeError) and O.run() reports through O.wait() (and O.run(n, True)). The guard
 // should be the FIRST engine: it then inspects the state left by the previous step before any
 // other engine of this step has run, and the scene is left exactly in that state (the step in
 // which it threw does not count: O.iter is unchanged).
@@ -72,7 +72,7 @@ public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexGuard, GlobalEngine,
-		"Stops a run at the first sign of numerical instability and names the bodies involved (yade-flex): non-finite state, a step longer than :yref:`FlexGuard.maxStepFraction` of a body's contact radius, a speed above :yref:`FlexGuard.maxSpeed`, or (with O.trackEnergy) energy created without external work beyond :yref:`FlexGuard.energyTolerance`. Sets :yref:`FlexGuard.message` and :yref:`FlexGuard.bodies` and throws: O.step() raises RuntimeError with the message, O.run() stops and O.wait() raises it. Put it first in O.engines so that the state it reports is kept unchanged. See pkg/yade/FlexGuard.hpp for the definitions.",
+		"Stops a run at the first sign of numerical instability and names the bodies involved (yade-flex): non-finite state, a step longer than :yref:`FlexGuard.maxStepFraction` of a body's contact radius, a speed above :yref:`FlexGuard.maxSpeed`, or (with O.trackEnergy) energy created without external work beyond :yref:`FlexGuard.energyTolerance`. Sets :yref:`FlexGuard.message` and :yref:`FlexGuard.bodies` and throws: O.step() raises yadeflex.Unstable (a RuntimeError and a ValueError) with the message, O.run() stops and O.wait() raises it. Put it first in O.engines so that the state it reports is kept unchanged. See pkg/yade/FlexGuard.hpp for the definitions.",
 		((int, interval, 1, Attr::triggerPostLoad, "Check every this many steps (>= 1); the external work is summed every step [-]"))
 		((Real, maxStepFraction, 0.5, Attr::triggerPostLoad, "Largest step |v| dt as a fraction of the body's contact radius, in (0, inf]; inf: off [-]"))
 		((Real, maxSpeed, std::numeric_limits<Real>::infinity(), Attr::triggerPostLoad, "Largest speed of any body, > 0; inf (default): off [m/s]"))

@@ -4,6 +4,7 @@
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
 #include "FlexTuning.hpp"
+#include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
 
 #include <core/InteractionLoop.hpp>
@@ -28,10 +29,12 @@ namespace flexa {
 		bool           finite(const Vector3r& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
 		bool           finite(const Quaternionr& q) { return finite(q.w()) && finite(q.x()) && finite(q.y()) && finite(q.z()); }
 
+		// a motion that is not finite: unstable (flexa::Unstable); any other field: a bad value
 		[[noreturn]] void refuse(const Body& b, const std::string& field, const std::string& what)
 		{
 			std::ostringstream os;
 			os << "body #" << b.id << " (" << (b.shape ? b.shape->getClassName() : std::string("no shape")) << "): " << field << " " << what;
+			if (field == "state.pos" || field == "state.ori" || field == "state.vel" || field == "state.angVel") throw Unstable(os.str());
 			throw std::invalid_argument(os.str());
 		}
 		template <class V> std::string got(const V& v)

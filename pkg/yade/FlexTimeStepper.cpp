@@ -7,7 +7,9 @@
 #include "FlexProtocol.hpp"
 #include "FlexSceneCheck.hpp"
 #include "FlexTuning.hpp"
+#include "FlexUnstable.hpp"
 
+#include <sstream>
 #include <kernel/ClosestPoints.hpp>
 #include <kernel/ContactRows.hpp>
 #include <kernel/TimeStep.hpp>
@@ -158,6 +160,19 @@ void FlexTimeStepper::action()
 	dtCritical   = criticalImpl(markUnreachable);
 	stiffestBody = stiffestCache;
 	skippedPairs = skippedCache;
+	if (!(minDtFraction >= 0) || !std::isfinite(minDtFraction)) throw std::invalid_argument("FlexTimeStepper.minDtFraction must be finite and >= 0");
+	if (std::isfinite(dtCritical) && minDtFraction > 0) {
+		if (!(dtReference > 0)) dtReference = dtCritical;
+		if (dtCritical < minDtFraction * dtReference) {
+			std::ostringstream os;
+			os.precision(4);
+			os << "the critical time step collapsed from " << dtReference << " s to " << dtCritical << " s (below FlexTimeStepper.minDtFraction = "
+			   << minDtFraction << " of it) at iter " << scene->iter << ", t = " << scene->time << " s; it is set by body #" << stiffestBody;
+			if (const Body* b = flexa::bodyAt(scene, stiffestBody))
+				if (b->shape) os << " (" << b->shape->getClassName() << ")";
+			throw flexa::Unstable(os.str());
+		}
+	}
 	if (std::isfinite(dtCritical)) scene->dt = safety * dtCritical;
 }
 

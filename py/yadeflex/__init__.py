@@ -9,6 +9,7 @@ Use inside a YADE session or script::
 
 Units are SI throughout: m, kg, s, N, Pa.
 """
+from .errors import Unstable
 from .materials import flex_material, steel, rope_6x7_8mm
 from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
 from .membrane import (membrane_material, geotextile, facet, triangle_mesh, sheet, lining, read_mesh, mesh_file,

@@ -27,6 +27,7 @@ from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G,
 from .output import VtkRecorder
 from .parts import scene_parts
 from .scene import contact_law, step_until
+from .errors import Unstable
 from .signals import Interrupted, Signals
 
 PROG = "damping_module"  # the main job: its name starts the lines it writes to stderr
@@ -307,7 +308,8 @@ class ImpactRun:
         self.impact_started = True
         with self._timed("free_fall"):
             self.free_fall = self._free_fall()
-        self.dt0 = O.dt
+        ts = next(e for e in O.engines if e.label == "flexDt")
+        ts.minDtFraction, ts.dtReference = self.s.min_dt_fraction, 0.0  # (the next estimate is the reference)
         self._impact()
         self.signals.hold()
         if self.status == "running":
@@ -370,19 +372,16 @@ class ImpactRun:
             try:
                 with self._timed("steps"):
                     step_until(until, steps)
-            except RuntimeError:  # FlexGuard: non-finite state, runaway step or energy created; names the bodies
-                if guard is None or not guard.message:
-                    raise
-                self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms, stopped by FlexGuard: {guard.message}; "
-                           f"bodies: {', '.join(part_name(b, self.names) for b in guard.bodies[:5])}")
-                return
-            except ValueError as e:  # the integrator or the scene check: a motion became non-finite (the message names the body)
-                self._stop("unstable", f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms: {e}; stopping")
-                return
-            if O.iter % 500 == 0 and O.dt < a.min_dt_fraction * self.dt0:
-                self._stop("unstable", f"the stable time step collapsed from {self.dt0:.3g} s to {O.dt:.3g} s at t = {1e3 * (O.time - self.start):.2f} ms; "
-                           f"it is set by {part_name(ts.stiffestBody, self.names)} (a crushed lining facet or a light node under a stiff contact); "
-                           "stopping (--min-dt-fraction)")
+            except Unstable as e:  # the scene check, the integrator, FlexGuard or the time stepper; the message names the body
+                at = f"unstable state at t = {1e3 * (O.time - self.start):.2f} ms"
+                if guard is not None and guard.message and guard.detectedIter == O.iter:
+                    self._stop("unstable", f"{at}, stopped by FlexGuard: {guard.message}; "
+                               f"bodies: {', '.join(part_name(b, self.names) for b in guard.bodies[:5])}")
+                elif "time step collapsed" in str(e):
+                    self._stop("unstable", f"{at}: {e}, {part_name(ts.stiffestBody, self.names)} (a crushed lining facet or a light node under "
+                               "a stiff contact); stopping (--min-dt-fraction)")
+                else:
+                    self._stop("unstable", f"{at}: {e}; stopping")
                 return
             if O.time >= next_rec:
                 next_rec += a.record_every

@@ -68,7 +68,7 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
     (yadeflex.crushing.failure_load); past it the contact yields, a stand-in for the grains'
     crushing ('flexCrushing' in O.energy; the yielded overlap is the contact's plasticOverlap,
     lost when the spheres part). 0 or None (the default): spheres do not crush.
-    guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with a RuntimeError
+    guard (opt-in, off by default): True puts a FlexGuard (label 'guard') first, which stops the run with yadeflex.Unstable
     naming the bodies at the first non-finite value, step longer than half a contact radius or
     (with O.trackEnergy) energy created without external work; it costs one pass over the
     bodies per step. Or a FlexGuard to use. Off by default: it still raises false alarms on

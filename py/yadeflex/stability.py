@@ -40,6 +40,7 @@ from yade.wrapper import PyRunner, FlexGuard
 
 from . import scenes, membrane_scenes, tensile
 from . import membrane as M
+from .errors import Unstable
 from .impact import RunSettings, unstable_body
 from .materials import steel
 from .module import ModuleParams, filled_module, add_boulder, scale_lining_nodes
@@ -208,8 +209,10 @@ def run_case(build, factor, group, scene, params, quiet=False):
     O.trackEnergy = True
     O.energy.clear()
     t_wall = time.time()
+    if case.module:  # the module's check: the run stops when the step collapses (as the main job)
+        ts.minDtFraction, ts.dtReference = RunSettings.min_dt_fraction, 0.0
     O.step()
-    total0, t0, it0, dt0 = O.energy.total(), O.time, O.iter, O.dt
+    total0, t0, it0 = O.energy.total(), O.time, O.iter
     w0 = case.work() if case.work else 0.0
     dtc0 = ts.dtCritical
     scale, max_abs, vmax = 0.0, 0.0, 0.0
@@ -223,18 +226,22 @@ def run_case(build, factor, group, scene, params, quiet=False):
             break
         try:
             O.step()
-        except RuntimeError:
+        except Unstable as e:
             g = next((x for x in O.engines if isinstance(x, FlexGuard)), None)
-            if g is None or not g.message:
-                raise
-            guard_step, guard_msg = O.iter - it0, f"{g.message} [bodies {list(g.bodies)[:5]}]"
-            if not quiet:
-                print(f"    guard stopped step {guard_step}: {g.message}", flush=True)
-            O.engines = [x for x in O.engines if not isinstance(x, FlexGuard)]
-            continue
-        except ValueError as e:  # the scene check refuses a state gone past 1e100 (or non-finite), or a step made
-            # non-finite by the critical step of a scene left with nothing to bound it (every element ruptured): a blow-up
-            if "state." not in str(e) and "O.dt must be finite" not in str(e):
+            if g is not None and g.message and g.detectedIter == O.iter:  # the guard: noted, and the run goes on without it
+                guard_step, guard_msg = O.iter - it0, f"{g.message} [bodies {list(g.bodies)[:5]}]"
+                if not quiet:
+                    print(f"    guard stopped step {guard_step}: {g.message}", flush=True)
+                O.engines = [x for x in O.engines if not isinstance(x, FlexGuard)]
+                continue
+            if "time step collapsed" in str(e):  # the module's check (FlexTimeStepper.minDtFraction)
+                outcome, blow_step, detail = "stopped by the module check", steps, str(e)
+            else:  # a state gone past 1e100 (or non-finite)
+                outcome, blow_step, detail = "blown up (non-finite)", first or steps, str(e)
+            break
+        except ValueError as e:  # a step made non-finite by the critical step of a scene left with nothing to bound it
+            # (every element ruptured): a blow-up
+            if "O.dt must be finite" not in str(e):
                 raise
             outcome, blow_step, detail = "blown up (non-finite)", first or steps, str(e)
             break
@@ -271,11 +278,6 @@ def run_case(build, factor, group, scene, params, quiet=False):
             v, vb = _max_speed(case.info.get("parts"))
             if v > vmax:
                 vmax, vmax_body = v, vb
-        if case.module and steps % 500 == 0 and O.dt < RunSettings.min_dt_fraction * dt0:
-            outcome = "stopped by the module check"
-            detail = f"time step collapsed from {dt0:.3g} s to {O.dt:.3g} s; set by body #{ts.stiffestBody}"
-            blow_step = steps
-            break
         if case.done is not None and case.done() and steps >= case.min_steps:
             break
     if episodes:
