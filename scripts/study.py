@@ -23,7 +23,9 @@ sys.path[:0] = [os.path.join(os.path.dirname(HERE), "py"), YADE_PY]
 def main(argv):
     ap = argparse.ArgumentParser(prog="study", description="Run a parametric study of the damping-module impact.",
                                  epilog="exit status: 0 every run done; 1 the study, an option or the setup refused (nothing ran); "
-                                        "3 some runs did not finish (their status and log are in results.csv)")
+                                        "3 some runs did not finish (their status and log are in results.csv); 130, 143 stopped by "
+                                        "Ctrl-C (SIGINT), SIGTERM: the queue cancelled, the running rows stopped with their partial "
+                                        "results, results.csv written for every row")
     ap.add_argument("study_file", help="CSV: a header of the main job's option names (plus name, repeat), a row per run")
     ap.add_argument("out_dir", help="results folder: runs/NAME/, results.csv, plots")
     ap.add_argument("--backend", default="local", help="local (default), mpi (under mpirun) or slurm")
@@ -54,6 +56,8 @@ def main(argv):
         for line in e.errors:
             print(f"study: {line}", file=sys.stderr)
         return study.EXIT_BAD_STUDY
+    except study.StudyInterrupted as e:
+        return 128 + e.signum
     return 0 if all(r["status"] == study.DONE for r in rows) else study.EXIT_RUNS_FAILED
 
 

@@ -29,12 +29,14 @@ import math
 import os
 import re
 import shlex
+import signal
 import subprocess
 import sys
+import threading
 import time
 
 from .files import write_atomic, write_json
-from .study_task import read_json
+from .study_task import read_json, TERM_GRACE, die_with_parent
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 RUN_SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
@@ -258,9 +260,9 @@ def _job_options(cmd):
 
 def run_outcome(folder):
     """(status, task outcome or None, summary.json or None) of a run's folder. status: done,
-    unstable, residual (balance residual above the limit), interrupted, failed, timeout, crashed
-    (killed by a signal, or with its worker: no outcome but a summary that says "running"),
-    missing (never started)."""
+    unstable, residual (balance residual above the limit), interrupted (SIGINT, SIGTERM to the run or
+    its task), failed, timeout, crashed (killed by a signal, or with its worker: no outcome but a
+    summary that says "running"), missing (never started)."""
     task = read_json(os.path.join(folder, STATUS_FILE))
     summary = read_json(os.path.join(folder, SUMMARY_FILE))
     if task is None:
@@ -268,6 +270,8 @@ def run_outcome(folder):
     rc = task["exit_status"]
     if task.get("skipped"):
         return "failed", task, summary
+    if task.get("interrupted"):
+        return "interrupted", task, summary
     if task.get("timed_out"):
         return "timeout", task, summary
     if rc < 0 or summary is None or summary.get("status") == "running":
@@ -280,9 +284,12 @@ def run_outcome(folder):
     return (status if status in ("unstable", "interrupted", "failed") else "failed"), task, summary
 
 
-def result_row(run, folder):
-    """One row of results.csv: the run's inputs, its summary's numbers, its status and log."""
+def result_row(run, folder, stopped=None):
+    """One row of results.csv: the run's inputs, its summary's numbers, its status and log.
+    stopped: the signal that stopped the study (a row never started is then 'cancelled')."""
     status, task, s = run_outcome(folder)
+    if status == "missing" and stopped:
+        status = "cancelled"
     s = s or {}
     row = dict(name=run["name"], row=run["row"])
     row.update(run["inputs"])
@@ -291,6 +298,10 @@ def result_row(run, folder):
     message = s.get("message")
     if task is not None and task.get("skipped"):
         message = task["skipped"]
+    elif status == "cancelled":
+        message = f"not run: the study was stopped by {stopped}"
+    elif status == "interrupted" and task is not None and task.get("interrupted") and not message:
+        message = f"stopped by {task['interrupted']} before the run wrote its results"
     elif status == "timeout":
         message = f"stopped after the study's timeout of {task['wall_time_s']:.0f} s" + (f"; {message}" if message else "")
     elif status == "crashed":
@@ -303,9 +314,10 @@ def result_row(run, folder):
     return row
 
 
-def gather(runs, out_dir):
-    """The rows of results.csv (one per run, in the study's order) and its columns."""
-    rows = [result_row(r, run_folder(out_dir, r["name"])) for r in runs]
+def gather(runs, out_dir, stopped=None):
+    """The rows of results.csv (one per run, in the study's order) and its columns; stopped: the
+    signal that stopped the study, if one did."""
+    rows = [result_row(r, run_folder(out_dir, r["name"]), stopped) for r in runs]
     inputs = ["name", "row"] + list(dict.fromkeys(k for r in runs for k in r["inputs"] if k != "name"))
     energy = sorted({k for r in rows for k in r if k.startswith("energy_") and k not in SUMMARY_COLUMNS})
     return rows, inputs + list(SUMMARY_COLUMNS) + energy + list(RUN_COLUMNS)
@@ -379,10 +391,84 @@ def _write_tasks(tasks, path):
     return path
 
 
-def _run_futures(executor, tasks, tasks_file, progress):
-    """Submit every task of tasks_file to executor (subprocess.call of task_command) and wait,
-    reporting to progress (StudyProgress)."""
-    futures = {executor.submit(subprocess.call, task_command(tasks_file, i)): t for i, t in enumerate(tasks)}
+class StudyInterrupted(Exception):
+    """SIGINT or SIGTERM stopped the study (run_study): the queue was cancelled, the running rows
+    were stopped (each writes its partial results, recorded as interrupted) and results.csv was
+    written for every row. signum: the signal; rows: results.csv's rows."""
+
+    def __init__(self, signum, rows=None):
+        super().__init__(signal.Signals(signum).name)
+        self.signum, self.rows = signum, rows
+
+
+class _Stop(BaseException):
+    """The coordinator's SIGINT or SIGTERM (raised in the main thread by _on_signals' handler)."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+class _on_signals:
+    """While it lasts, SIGINT and SIGTERM raise _Stop in the main thread, once: the study is then
+    stopping, and a second signal is ignored (the tasks bound their wait; none is left behind).
+    Outside the main thread (a study run from a worker thread) nothing is installed."""
+
+    def __enter__(self):
+        self.saved = {}
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self.saved[sig] = signal.getsignal(sig)
+                if self.saved[sig] != signal.SIG_IGN:
+                    signal.signal(sig, self._raise)
+        return self
+
+    def _raise(self, signum, frame):
+        for sig in self.saved:
+            signal.signal(sig, signal.SIG_IGN)
+        raise _Stop(signum)
+
+    def __exit__(self, *exc):
+        for sig, h in self.saved.items():
+            signal.signal(sig, h)
+        return False
+
+
+class _TaskProcesses:
+    """The task processes the local backend's threads started: each thread's call starts one and
+    waits; stop(signum) passes the signal on to those running (each stops its run and writes its
+    outcome) and keeps any more from starting."""
+
+    def __init__(self):
+        self.lock, self.running, self.stopped = threading.Lock(), set(), None
+
+    def call(self, cmd):
+        with self.lock:
+            if self.stopped is not None:
+                return None  # cancelled: the study is stopping
+            p = subprocess.Popen(cmd, preexec_fn=die_with_parent)  # (a coordinator killed outright takes its tasks along)
+            self.running.add(p)
+        try:
+            return p.wait()
+        finally:
+            with self.lock:
+                self.running.discard(p)
+
+    def stop(self, signum):
+        with self.lock:
+            self.stopped = signum
+            for p in self.running:
+                try:
+                    p.send_signal(signum)
+                except ProcessLookupError:
+                    pass
+            return len(self.running)
+
+
+def _run_futures(executor, tasks, tasks_file, progress, call=subprocess.call):
+    """Submit every task of tasks_file to executor (call of task_command) and wait, reporting to
+    progress (StudyProgress)."""
+    futures = {executor.submit(call, task_command(tasks_file, i)): t for i, t in enumerate(tasks)}
     pending = set(futures)
     while pending:
         ended, pending = concurrent.futures.wait(pending, timeout=5.0, return_when=concurrent.futures.FIRST_COMPLETED)
@@ -393,9 +479,20 @@ def _run_futures(executor, tasks, tasks_file, progress):
 
 
 def run_local(tasks, tasks_file, workers, progress):
-    """Tasks on this machine, `workers` at a time (threads, each waiting on one task process)."""
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as ex:
-        _run_futures(ex, tasks, tasks_file, progress)
+    """Tasks on this machine, `workers` at a time (threads, each waiting on one task process). On
+    the coordinator's SIGINT or SIGTERM (_Stop): the queue is cancelled, the running tasks get the
+    signal, and this returns once they have ended (each within TERM_GRACE), raising _Stop."""
+    procs = _TaskProcesses()
+    ex = concurrent.futures.ThreadPoolExecutor(max_workers=workers)
+    try:
+        _run_futures(ex, tasks, tasks_file, progress, procs.call)
+    except _Stop as e:
+        n = procs.stop(e.signum)
+        progress.out(f"study: {e.args[0]}: the queue is cancelled; waiting for the {n} running row(s) to write their results "
+                     f"(at most {TERM_GRACE:.0f} s)")
+        raise
+    finally:
+        ex.shutdown(wait=True, cancel_futures=True)
 
 
 def mpi_workers():
@@ -416,7 +513,11 @@ def run_mpi(tasks, tasks_file, progress):
     """Tasks on the worker ranks of mpi4py.futures (one task per rank at a time)."""
     from mpi4py.futures import MPIPoolExecutor
     with MPIPoolExecutor() as ex:
-        _run_futures(ex, tasks, tasks_file, progress)
+        try:
+            _run_futures(ex, tasks, tasks_file, progress)
+        except _Stop:  # the queue is cancelled; under mpirun the signal reaches the running tasks' ranks too
+            ex.shutdown(wait=False, cancel_futures=True)
+            raise
 
 
 class Slurm:
@@ -510,7 +611,14 @@ def run_slurm(slurm, fill, runs, out_dir, progress):
         progress.out(f"study: Slurm job {after}: {len(fill[0])} fill(s)")
     job = slurm.submit(runs[1], len(runs[0]), log_dir, "yadeflex-study", after=after)
     progress.out(f"study: Slurm job {job}: {len(runs[0])} run(s)")
-    accounting = slurm.wait(job, runs[0], progress)
+    try:
+        accounting = slurm.wait(job, runs[0], progress)
+    except _Stop as e:  # pending array tasks cancelled, running ones get SIGTERM (and write their results)
+        jobs = [j for j in (after, job) if j]
+        subprocess.run(["scancel", *jobs], capture_output=True, timeout=120)
+        progress.out(f"study: {e.args[0]}: Slurm jobs {', '.join(jobs)} cancelled; waiting for their running tasks to end")
+        slurm.wait(job, runs[0], progress)
+        raise
     if accounting:
         write_json(os.path.join(log_dir, "sacct.json"), {runs[0][i]["name"]: v for i, v in accounting.items() if i < len(runs[0])})
 
@@ -577,6 +685,24 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
             say(f"study: WARNING {workers} workers share the {cpus} CPU(s) this process may run on: each run takes longer{hint}")
         elif bound and cpus == 1 < (os.cpu_count() or 1):
             say(f"study: WARNING this process may run on 1 of the machine's {os.cpu_count()} CPUs: one run at a time{hint}")
+    with _on_signals():
+        try:
+            _execute(todo, out_dir, cache_dir, timeout, yade, backend, workers, slurm, say)
+            stopped = None
+        except _Stop as e:
+            stopped = e.signum
+        try:
+            rows = _report(runs, out_dir, stopped, say)
+        except _Stop as e:  # (a first signal while the results are written: written again, signals now ignored)
+            stopped = e.signum
+            rows = _report(runs, out_dir, stopped, say)
+    if stopped is not None:
+        raise StudyInterrupted(stopped, rows)
+    return rows
+
+
+def _execute(todo, out_dir, cache_dir, timeout, yade, backend, workers, slurm, say):
+    """Fill the modules the runs todo need, then run them (run_study's backends)."""
     if todo:
         fills = fill_tasks(todo, out_dir, cache_dir, yade)
         todo = run_tasks(todo, out_dir, cache_dir, timeout, yade, fills)
@@ -594,7 +720,11 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
             if fills:
                 execute(fills, fill_file, StudyProgress(len(fills), workers, fill_failed, lambda line: say(line.replace("study:", "fills:"))))
             execute(todo, run_file, StudyProgress(len(todo), workers, run_failed, say))
-    rows, columns = gather(runs, out_dir)
+
+
+def _report(runs, out_dir, stopped, say):
+    """results.csv, the plots and the closing line; returns the rows."""
+    rows, columns = gather(runs, out_dir, None if stopped is None else signal.Signals(stopped).name)
     write_results(rows, columns, os.path.join(out_dir, "results.csv"))
     try:
         from .study_plots import write_study_plots
@@ -603,7 +733,8 @@ def run_study(study_file, out_dir, backend="local", workers=None, resume=False, 
     except Exception as e:  # plots are a convenience: the table is the result
         say(f"study: (plots failed: {type(e).__name__}: {e})")
     failed = [r for r in rows if r["status"] != DONE]
-    say(f"study: {len(rows) - len(failed)} of {len(rows)} runs done" + (f", {len(failed)} not: " + ", ".join(
+    say((f"study: stopped by {signal.Signals(stopped).name}: " if stopped else "study: ")
+        + f"{len(rows) - len(failed)} of {len(rows)} runs done" + (f", {len(failed)} not: " + ", ".join(
         f"{r['name']} ({r['status']}, log {r['log']})" for r in failed[:10]) + (" ..." if len(failed) > 10 else "") if failed else "")
         + f"; results in {os.path.join(out_dir, 'results.csv')}")
     return rows

@@ -17,9 +17,16 @@ TASKS.json (written by yadeflex.study) holds a list of tasks, each a dict:
                that task failed, this one does not start and records why (skipped)
 
 The outcome file: name, cmd, exit_status (the process's; a negative value -N: killed by signal
-N), timed_out, wall_time_s, host, log, and skipped (None, or why the task did not start). It is written through a temporary file and a rename, after
+N), timed_out, wall_time_s, host, log, skipped (None, or why the task did not start) and
+interrupted (None, or the signal that stopped the task: SIGINT or SIGTERM). It is written through a temporary file and a rename, after
 the process ended, so its presence means the task ran to its end; a task killed with its worker
 leaves none. The task's own exit status is the process's (128 + N if killed by signal N).
+
+SIGINT or SIGTERM to the task (Ctrl-C to the study's process group, the study's coordinator, a
+batch system's cancel) is passed on to the run, which writes its partial results and ends; the
+task then writes its outcome (interrupted) and exits 130 or 143. Further signals are ignored
+meanwhile: the run gets TERM_GRACE seconds, then SIGKILL. The run also dies with the task
+(PR_SET_PDEATHSIG), so that no run is left without it.
 """
 import json
 import os
@@ -60,7 +67,7 @@ def _last_line(path):
     return next((ln for ln in reversed(lines) if "Error" in ln or ln.startswith("damping_module:")), lines[-1] if lines else "empty log")
 
 
-def _die_with_parent():
+def die_with_parent():
     """In the run's process before exec: SIGKILL when the task process dies, so that a killed
     worker leaves no run going on without it (Linux; elsewhere a no-op)."""
     try:
@@ -68,6 +75,46 @@ def _die_with_parent():
         ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
     except (OSError, AttributeError):
         pass
+
+
+class Stopped(BaseException):
+    """SIGINT or SIGTERM reached the task (see the module's docstring); signum: which."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _stop(signum, frame):
+    for sig in (signal.SIGINT, signal.SIGTERM):  # once: the run is being stopped
+        signal.signal(sig, signal.SIG_IGN)
+    raise Stopped(signum)
+
+
+def stop_on_signals():
+    """SIGINT and SIGTERM raise Stopped (main thread; a signal ignored when the task started, as
+    under nohup, stays ignored)."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(sig) != signal.SIG_IGN:
+            signal.signal(sig, _stop)
+
+
+def _end(proc, signum, grace):
+    """Send signum to the run's process group, wait grace seconds, then SIGKILL; the exit status."""
+    try:
+        os.killpg(proc.pid, signum)
+    except ProcessLookupError:
+        pass
+    try:
+        return proc.wait(timeout=grace)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        return proc.wait()
+
+
+def _run_preexec():
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
+    die_with_parent()
 
 
 def run_task(task):
@@ -84,30 +131,36 @@ def run_task(task):
         return out
     env = dict(os.environ, **task.get("env", {}))
     t0 = time.time()
-    timed_out = False
+    timed_out, interrupted = False, None
     with open(log, "w") as fh:
         fh.write("$ " + " ".join(task["cmd"]) + "\n")
         fh.flush()
         # its own session: a timeout stops the run and whatever it started, and a signal sent to
-        # the study's process group (Ctrl-C) reaches the coordinator, which stops the runs itself
-        proc = subprocess.Popen(task["cmd"], stdin=subprocess.DEVNULL, stdout=fh, stderr=subprocess.STDOUT, env=env,
-                                start_new_session=True, preexec_fn=_die_with_parent)
+        # the study's process group (Ctrl-C) reaches this task, which stops its run itself. The
+        # signals wait while the run starts (a Stopped raised inside Popen would leave no outcome),
+        # and the run starts with them unblocked.
+        stops = {signal.SIGINT, signal.SIGTERM}
+        signal.pthread_sigmask(signal.SIG_BLOCK, stops)
         try:
+            proc = subprocess.Popen(task["cmd"], stdin=subprocess.DEVNULL, stdout=fh, stderr=subprocess.STDOUT, env=env,
+                                    start_new_session=True, preexec_fn=_run_preexec)
+        except BaseException:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, stops)
+            raise
+        try:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, stops)  # (a signal that came meanwhile is raised here)
             rc = proc.wait(timeout=task.get("timeout"))
         except subprocess.TimeoutExpired:
             timed_out = True
-            os.killpg(proc.pid, signal.SIGTERM)
-            try:
-                rc = proc.wait(timeout=TERM_GRACE)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                rc = proc.wait()
+            rc = _end(proc, signal.SIGTERM, TERM_GRACE)
+        except Stopped as e:  # passed on: the run writes its partial results and ends
+            interrupted = e.args[0]
+            rc = _end(proc, e.signum, TERM_GRACE)
         except BaseException:
-            os.killpg(proc.pid, signal.SIGTERM)
-            proc.wait()
+            _end(proc, signal.SIGTERM, TERM_GRACE)
             raise
     out = dict(name=task["name"], cmd=task["cmd"], exit_status=rc, timed_out=timed_out, wall_time_s=time.time() - t0,
-               host=socket.gethostname(), log=log, skipped=None)
+               host=socket.gethostname(), log=log, skipped=None, interrupted=interrupted)
     _write_json(task["status"], out)
     return out
 
@@ -116,9 +169,16 @@ def main(argv):
     if len(argv) != 2:
         print("usage: study_task.py TASKS.json INDEX", file=sys.stderr)
         return 1
-    with open(argv[0]) as fh:
-        tasks = json.load(fh)
-    rc = run_task(tasks[int(argv[1])])["exit_status"]
+    stop_on_signals()
+    try:
+        with open(argv[0]) as fh:
+            tasks = json.load(fh)
+        out = run_task(tasks[int(argv[1])])
+    except Stopped as e:  # before the run started: nothing to record
+        return 128 + e.signum
+    if out.get("interrupted"):
+        return 128 + signal.Signals[out["interrupted"]].value
+    rc = out["exit_status"]
     return 128 - rc if rc < 0 else rc
 
 

@@ -338,3 +338,62 @@ def test_the_coordinator_prints_only_its_own_lines(tmp_path):
     r = subprocess.run([STUDY, str(path), str(tmp_path / "out")], capture_output=True, text=True, timeout=300)
     assert r.returncode == study.EXIT_BAD_STUDY and r.stdout == "", r.stdout
     assert r.stderr.strip().splitlines() == ["study: row 1 (line 2), column repeat: got '0'; allowed a whole number in [1, 1000] (a fill each)"], r.stderr
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+# One Ctrl-C (SIGINT to the study's process group, as a terminal sends it) or a SIGTERM to the
+# coordinator alone: the queued rows never start, the running row stops with its partial
+# results (interrupted), results.csv lists every row, the study exits 130 / 143 and no run is
+# left behind.
+@pytest.mark.parametrize("sig,to_group", [(signal.SIGINT, True), (signal.SIGTERM, False)], ids=["ctrl-c", "sigterm"])
+def test_a_signal_cancels_the_queue_and_records_every_row(local_study, cache, tmp_path, sig, to_group):
+    rows = [dict(GRID[k], duration="0.2") for k in (0, 1, 2)]
+    f = write_study(tmp_path / "s.csv", rows)
+    out = str(tmp_path / "s")
+    proc = subprocess.Popen([sys.executable, os.path.join(REPO, "scripts", "study.py"), f, out, "--workers", "1", "--cache-dir", cache],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    first = os.path.join(out, "runs", rows[0]["name"], "summary.json")
+    t0 = time.time()
+    while not (os.path.exists(first) and (json.load(open(first)) or {}).get("stage") == "impact"):
+        assert proc.poll() is None and time.time() - t0 < 300, "the first run never reached its impact"
+        time.sleep(0.05)
+    pid = json.load(open(first))["pid"]
+    if to_group:
+        os.killpg(proc.pid, sig)
+    else:
+        os.kill(proc.pid, sig)
+    log, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, log
+    assert "Traceback" not in log, log
+    assert not _alive(pid), "the run outlived the study"
+    table = read_results(out)
+    assert [table[r["name"]]["status"] for r in rows] == ["interrupted", "cancelled", "cancelled"], table
+    assert table[rows[0]["name"]]["peak_impact_force"], "the stopped row keeps its partial results"
+    assert table[rows[1]["name"]]["message"] == f"not run: the study was stopped by {sig.name}"
+    assert not os.path.exists(os.path.join(out, "runs", rows[2]["name"], study.STATUS_FILE))
+    assert f"study: stopped by {sig.name}:" in log
+
+
+def test_a_task_stopped_before_its_run_wrote_results_says_so(tmp_path):
+    """A row stopped while YADE starts (no summary yet) is recorded as interrupted, naming the
+    signal, not as a crash with only a log."""
+    folder = str(tmp_path / "run")
+    tasks = tmp_path / "tasks.json"
+    tasks.write_text(json.dumps([dict(name="r", cmd=["sleep", "30"], folder=folder, status=os.path.join(folder, study.STATUS_FILE))]))
+    p = subprocess.Popen([sys.executable, os.path.join(REPO, "py", "yadeflex", "study_task.py"), str(tasks), "0"])
+    children = f"/proc/{p.pid}/task/{p.pid}/children"
+    t0 = time.time()
+    while not open(children).read().strip():  # until the task has started its process
+        assert time.time() - t0 < 30
+        time.sleep(0.02)
+    p.send_signal(signal.SIGTERM)
+    assert p.wait(timeout=60) == 128 + signal.SIGTERM
+    row = study.result_row(dict(name="r", row=1, inputs={}), folder)
+    assert row["status"] == "interrupted" and row["message"] == "stopped by SIGTERM before the run wrote its results", row
