@@ -27,15 +27,39 @@ def write_atomic(path, text, mode=0o644):
             fh.write(text)
         os.chmod(tmp, mode)  # mkstemp makes it 0600
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as e:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(e, OSError):  # named by the file meant, not the temporary one
+            raise OSError(e.errno, e.strerror, path) from None
         raise
 
 
 def write_json(path, obj):
     """write_atomic of obj as indented JSON."""
     write_atomic(path, json.dumps(obj, indent=1) + "\n")
+
+
+def overwrite_json(path, obj):
+    """obj as JSON over the existing file at path, in place (truncated and rewritten: on a full
+    disk the file's own block still holds a short text, where write_atomic needs a new one)."""
+    with open(path, "r+" if os.path.exists(path) else "w") as fh:
+        fh.truncate(0)
+        fh.write(json.dumps(obj) + "\n")
+
+
+def write_failure(path, err):
+    """One line saying why path could not be written: the OS's reason, or (a writer that gives
+    none, as VTK's) the disk's free space when it is nearly full."""
+    reason = os.strerror(err.errno) if getattr(err, "errno", None) else None
+    if not reason:
+        try:
+            st = os.statvfs(os.path.dirname(os.path.abspath(path)) or ".")
+            free = st.f_bavail * st.f_frsize
+            reason = f"the disk is full ({free // 1024} kB free)" if free < (1 << 20) else str(err)
+        except OSError:
+            reason = str(err)
+    return f"cannot write {path}: {reason}"
 
 
 @contextlib.contextmanager
@@ -75,6 +99,12 @@ class CsvStream:
         return self.first + [k for k in keys if k not in self.first and k not in self.last] + self.last
 
     def append(self, row):
+        try:
+            self._append(row)
+        except OSError as e:  # (a write on an open file names no file: this one's path is added)
+            raise OSError(e.errno, e.strerror, e.filename or self.path) from None
+
+    def _append(self, row):
         self.rows.append(row)
         new = [k for k in row if self.columns is None or k not in self.columns]
         if new:
@@ -99,8 +129,11 @@ class CsvStream:
 
     def close(self):
         if self._fh is not None:
-            self._fh.close()
-            self._fh = None
+            fh, self._fh = self._fh, None
+            try:
+                fh.close()
+            except OSError as e:
+                raise OSError(e.errno, e.strerror, e.filename or self.path) from None
 
 
 class ResultsFolder:

@@ -21,7 +21,7 @@ import traceback
 from yade import O
 from yade.minieigenHP import Vector3
 
-from .files import CsvStream, ResultsFolder, write_json
+from .files import CsvStream, ResultsFolder, overwrite_json, write_failure, write_json
 from .impact_plots import write_plots
 from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G, UNBALANCED_TOL
 from .output import VtkRecorder
@@ -470,15 +470,36 @@ class ImpactRun:
         return EXIT[self.status]
 
     def finish(self):
-        """Close the time series and write summary.json; returns the summary."""
-        self.rows.close()
-        self.erows.close()
+        """Close the time series and write summary.json; returns the summary. A file that cannot
+        be written (a full disk) makes the run failed, with one line naming it."""
+        try:
+            self.rows.close()
+            self.erows.close()
+        except OSError as e:
+            if self.status != "failed":
+                self.stopped("failed", message=write_failure(e.filename or "the time series", e))
         s = dict(status=self.status, stage=self.stage, exit_status=self.exit_status(), message=self.message)
         if s["exit_status"] == EXIT["residual"]:
             s["message"] = f"energy balance residual {100 * self.resid:.2f}% exceeds {100 * self.s.max_residual:.1f}%"
         s.update(self._results())
-        write_json(self.folder.file("summary.json"), s)
+        self._write_summary(s)
         return s
+
+    def _write_summary(self, s):
+        """summary.json, whole; if the disk is full, the run failed: its status and message in
+        place of the old summary (which still holds its block), or else only the line on stderr."""
+        path = self.folder.file("summary.json")
+        try:
+            write_json(path, s)
+            return
+        except OSError as e:
+            if s["status"] != "failed":
+                s.update(status="failed", exit_status=EXIT["failed"], message=write_failure(path, e))
+                print(f"{PROG}: {s['message']}", file=sys.stderr, flush=True)
+        try:
+            overwrite_json(path, {k: s[k] for k in ("status", "stage", "exit_status", "message")})
+        except OSError:
+            pass
 
     def _results(self):
         """The summary's numbers, from what was recorded (None where nothing was)."""
@@ -517,6 +538,12 @@ class ImpactRun:
         if self.rows.rows:
             try:
                 write_plots(self.folder.path, self.rows.rows, self.erows.rows, [k for k in self.erows.columns or [] if k not in ("t", "residual")])
+            except OSError as e:  # a full disk: the run failed (summary.json and the exit status say so)
+                if s["status"] != "failed":
+                    s.update(status="failed", exit_status=EXIT["failed"], message=write_failure(e.filename or "the plots", e))
+                    print(f"{PROG}: {s['message']}", file=sys.stderr, flush=True)
+                    self._write_summary(s)
+                return
             except Exception as e:  # plots are a convenience: never lose the numbers over them
                 print(f"  (plots failed: {e})")
         if s["status"] not in ("done", "unstable") or not self.rows.rows:
@@ -546,6 +573,12 @@ def fill_only(params, cache_dir=None):
     return EXIT["done"]
 
 
+def _named_file(err):
+    """The file an OSError's message names (VTK's writer: 'VTK could not write PATH'), or its text."""
+    text = str(err)
+    return text.rsplit(" ", 1)[-1] if text.startswith("VTK could not write ") else text
+
+
 def run_impact(params, out, cache_dir=None, progress=True, **settings):
     """The main job: the filled module of params (ModuleParams; loaded from cache_dir, default
     ~/.cache/yadeflex/modules, or filled and saved there), its boulder and the impact, written into
@@ -571,6 +604,8 @@ def run_impact(params, out, cache_dir=None, progress=True, **settings):
             run.run()
         except (Interrupted, KeyboardInterrupt) as e:
             run.stopped("interrupted", e.args[0] if isinstance(e, Interrupted) else "SIGINT")
+        except OSError as e:  # an output file that could not be written (a full disk): one line naming it
+            run.stopped("failed", message=write_failure(e.filename or _named_file(e), e))
         except Exception as e:
             traceback.print_exc()
             run.stopped("failed", message=f"{type(e).__name__}: {e}")

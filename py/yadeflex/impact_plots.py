@@ -19,6 +19,16 @@ def term_styles(n):
     return ["-" if k < 10 else "--" for k in range(n)]
 
 
+def _save(fig, path):
+    """fig to path; OSError naming path (a full disk), with no part of the file left."""
+    try:
+        fig.savefig(path, dpi=110)
+    except OSError as e:
+        if os.path.exists(path):
+            os.unlink(path)
+        raise OSError(e.errno, e.strerror, path) from None
+
+
 def write_plots(folder, rows, erows, keys):
     """impact.png and energy.png into folder; rows: timeseries.csv's, erows: energy.csv's, keys:
     the energy terms to draw."""
@@ -47,7 +57,7 @@ def write_plots(folder, rows, erows, keys):
     ax[1, 1].set(xlabel="t [ms]", ylabel="largest axial force [kN] (tension > 0)", title="rings and rope")
     ax[1, 1].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "impact.png"), dpi=110)
+    _save(fig, os.path.join(folder, "impact.png"))
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(10, 6))
     te = [1e3 * e["t"] for e in erows]
@@ -57,5 +67,5 @@ def write_plots(folder, rows, erows, keys):
     ax.set(xlabel="t [ms]", ylabel="energy [J]", title="energy budget (work terms with YADE's signs)")
     ax.legend(fontsize=8, ncol=2)
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "energy.png"), dpi=110)
+    _save(fig, os.path.join(folder, "energy.png"))
     plt.close(fig)

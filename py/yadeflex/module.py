@@ -611,6 +611,41 @@ def cache_files(params, cache_dir):
     return stem + ".yade.gz", stem + ".json", stem + ".lock"
 
 
+def save_compressed(path):
+    """O.save into path, a '.yade.gz', without YADE's gzip writer: that writer loops for ever in its
+    close when the disk fills (and returns normally having written nothing or a part when the
+    folder is gone). The scene goes to an uncompressed file next to path (whose writer raises on a
+    failed write), which Python's gzip then compresses into path (OSError on a full disk); the
+    uncompressed file is removed whatever happens, path when it could not be written whole.
+    Raises OSError naming the file."""
+    import gzip
+    import shutil
+    raw = path[:-len(".gz")] + ".raw.yade" if path.endswith(".gz") else path + ".raw.yade"
+    try:
+        try:
+            O.save(raw)
+        except RuntimeError as e:  # ("output stream error": the disk is full)
+            raise OSError(f"saving {raw} failed: {e} (disk full, or the folder gone?)") from None
+        check_written(raw)
+        try:
+            with open(raw, "rb") as src, gzip.open(path, "wb", compresslevel=6) as dst:
+                shutil.copyfileobj(src, dst, 1 << 20)
+        except OSError as e:
+            if os.path.exists(path):
+                os.unlink(path)
+            raise OSError(f"saving {path} failed: {e.strerror or e} (disk full, or the folder gone?)") from None
+    finally:
+        if os.path.exists(raw):
+            os.unlink(raw)
+    check_saved(path)
+
+
+def check_written(path):
+    """Raises OSError naming path unless it exists and is not empty."""
+    if not os.path.exists(path) or os.path.getsize(path) == 0:
+        raise OSError(f"saving {path} failed: nothing was written (disk full, or the folder gone?)")
+
+
 def check_saved(path):
     """Raises OSError naming path unless it holds a whole gzip stream, as O.save writes a
     '.yade.gz' (YADE's O.save returns normally having written nothing or a part when the disk is
@@ -661,6 +696,19 @@ def cache_problem(params, cache_dir):
     return None
 
 
+def _remove_stale_temps(f, keep):
+    """The temporary files of cache file f that a run killed while saving left (only a run holding
+    f's lock saves f, and the caller holds it: every other one is stale); keep: the caller's own."""
+    import glob
+    folder, base = os.path.split(f)
+    for t in glob.glob(os.path.join(glob.escape(folder), f".{glob.escape(base)}.*")):
+        if os.path.abspath(t) != os.path.abspath(keep):
+            try:
+                os.unlink(t)
+            except OSError:
+                pass
+
+
 def filled_module(params, cache_dir=None, progress=None):
     """The settled module on O: loaded from the cache when it holds this key (with
     params.engines(params.damping) set), else built and saved there. A cache file that
@@ -687,6 +735,7 @@ def filled_module(params, cache_dir=None, progress=None):
         raise ValueError(f"the module cache folder {cache_dir} cannot be written: {e.strerror or e}") from None
     try:
         with locked(lock, waiting=lambda: print(f"yadeflex: waiting for another run that fills the module {f}", flush=True)):
+            _remove_stale_temps(f, keep=tmp)
             problem = cache_problem(params, cache_dir)
             if problem is None:
                 try:
@@ -709,9 +758,10 @@ def filled_module(params, cache_dir=None, progress=None):
             # cache must stay readable (the impact sets its own engines anyway)
             engines_ = O.engines
             O.engines = []
-            O.save(tmp)
-            O.engines = engines_
-            check_saved(tmp)
+            try:
+                save_compressed(tmp)
+            finally:
+                O.engines = engines_
             meta = dict(format=CACHE_FORMAT, key=key, bytes=os.path.getsize(tmp), sha256=_sha256(tmp))
             os.chmod(tmp, 0o644)  # mkstemp makes it 0600
             os.replace(tmp, f)

@@ -99,11 +99,15 @@ _HEX_CORNERS = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1),
 def _vtk():
     try:
         from vtkmodules.util import numpy_support
-        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
+        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkLogger, vtkPoints
         from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
         from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
     except ImportError as err:
         raise ImportError(f"VTK output needs VTK's Python bindings (Debian: apt-get install python3-vtk9): {err}") from None
+    # VTK's log stays off stderr (a writer that fails dumps its pipeline there: _write_vtu raises
+    # naming the file instead); vtkObject.GlobalWarningDisplayOff made VTK 9.1's writer crash on
+    # a full disk
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
     return dict(ns=numpy_support, vtkDoubleArray=vtkDoubleArray, vtkIntArray=vtkIntArray, vtkPoints=vtkPoints,
                 vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
 
@@ -442,7 +446,9 @@ def _write_vtu(vtk, grid, path, time, stamp=None):
     # (Write() returns 1 even when the file could not be opened: the writer's error code tells)
     if w.Write() != 1 or w.GetErrorCode() != 0:
         code = w.GetErrorCode()
-        raise OSError(f"VTK could not write {path}" + (f": {os.strerror(code)}" if 0 < code < 256 else ""))
+        if 0 < code < 256:
+            raise OSError(code, f"VTK could not write {path}: {os.strerror(code)}", path)
+        raise OSError(f"VTK could not write {path}")
 
 
 def _write_pvd(path, datasets):

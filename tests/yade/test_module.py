@@ -337,7 +337,8 @@ def test_three_modules_tied_by_a_rope(tmp_path):
 
 def test_unreadable_cache_is_filled_again(tmp_path, scene):
     """A cache file this build cannot read (saved by a build whose classes had other attributes,
-    here simply not a YADE file) is filled again, not a crash; the new file is then reused."""
+    here simply not a YADE file) is filled again, not a crash; the new file is then reused. The
+    temporary file of a run killed while saving is removed by the next fill of that module."""
     import gzip
     from yade import O
     from yadeflex.module import ModuleParams, filled_module
@@ -345,8 +346,11 @@ def test_unreadable_cache_is_filled_again(tmp_path, scene):
     f = tmp_path / f"module-{p.fill_key()}.yade.gz"
     with gzip.open(f, "wb") as g:
         g.write(b"not a YADE scene")
+    stale = tmp_path / f".{f.name}.k9mhmx8b.yade.gz"  # left by a run killed while it saved
+    stale.write_bytes(b"")
     ids, path, cached = filled_module(p, cache_dir=str(tmp_path))
     assert not cached and path == str(f) and len(ids["grains"]) > 10
+    assert sorted(x.name for x in tmp_path.iterdir()) == sorted([f.name, f"module-{p.fill_key()}.json", f"module-{p.fill_key()}.lock"])
     n = len(O.bodies)
     O.reset()
     ids2, _, cached2 = filled_module(p, cache_dir=str(tmp_path))
@@ -402,6 +406,69 @@ def test_run_script_passes_threads_to_yade(small_run):
         r = subprocess.run(["bash", run, str(base / "bad"), "--small", "--threads", bad], capture_output=True, text=True, timeout=300, env=env, cwd=REPO)
         assert r.returncode == 1 and "--threads must be a whole number" in r.stderr, (bad, r.stderr[-2000:])
         assert not (base / "bad" / "summary.json").exists()
+
+
+def _small_disk(folder, size):
+    """Mount a tmpfs of size on folder (a disk that fills soon); skip where mounting is not allowed."""
+    folder.mkdir()
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)], capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here: {r.stderr.strip()}")
+
+
+@pytest.fixture
+def full_disk(tmp_path):
+    """A folder on a 64 kB tmpfs."""
+    d = tmp_path / "full"
+    _small_disk(d, "64k")
+    yield d
+    subprocess.run(["umount", str(d)], check=True)
+
+
+# The output disk fills while the main job writes: in the frames (60 kB, 200 kB) or in the plots
+# (100 kB, no frames). One line names the file and the cause, no traceback nor VTK dump, exit 1,
+# summary.json says failed with that message, and scripts/run's last line lists no file.
+@pytest.mark.parametrize("size,args", [("60k", ()), ("200k", ()), ("100k", ("--no-vtk",))], ids=["60k", "200k", "100k-no-vtk"])
+def test_a_full_output_disk_ends_the_run_with_one_line(small_run, tmp_path, size, args):
+    base, _, _ = small_run
+    disk = tmp_path / "disk"
+    _small_disk(disk, size)
+    try:
+        env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "py"))
+        r = subprocess.run(["bash", os.path.join(REPO, "scripts", "run"), str(disk / "r"), "--small", "--cache-dir", str(base / "cache"), *args],
+                           capture_output=True, text=True, timeout=600, env=env, cwd=REPO)
+        assert r.returncode == 1, r.stdout[-3000:] + r.stderr[-3000:]
+        lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+        ours = [ln for ln in lines if ln.startswith("damping_module:")]
+        assert len(ours) == 1 and ours[0].startswith(f"damping_module: cannot write {disk}/r/"), r.stderr[-3000:]
+        assert "No space left on device" in ours[0] or "the disk is full" in ours[0], ours[0]
+        assert "Traceback" not in r.stderr and "ERR|" not in r.stderr, r.stderr[-3000:]
+        s = json.loads((disk / "r" / "summary.json").read_text())
+        assert s["status"] == "failed" and s["exit_status"] == 1 and s["message"] == ours[0][len("damping_module: "):].split("; writing")[0]
+        assert "run: results in" not in r.stdout
+    finally:
+        subprocess.run(["umount", str(disk)], check=True)
+
+
+def test_a_save_on_a_full_disk_raises_naming_the_file_and_leaves_nothing(full_disk, scene):
+    """YADE's own gzip writer never returns from O.save on a full disk (a scene of 25,000 bodies:
+    it loops in its close); the cache's save raises OSError naming the file, at once, and
+    leaves no file behind; on a disk with room the file it writes loads back the same scene."""
+    from yade import O
+    from yadeflex import scenes
+    from yadeflex.module import save_compressed
+    scenes.drop_on_surface("net", "wall", cells=80)
+    n = len(O.bodies)
+    target = str(full_disk / "m.yade.gz")
+    with pytest.raises(OSError, match=r"saving .*full/m\.yade.* failed"):
+        save_compressed(target)
+    assert os.listdir(full_disk) == []
+    ok = os.path.join(os.path.dirname(str(full_disk)), "ok.yade.gz")
+    save_compressed(ok)
+    assert sorted(os.listdir(os.path.dirname(ok))) == ["full", "ok.yade.gz"]
+    O.reset()
+    O.load(ok)
+    assert len(O.bodies) == n
 
 
 def test_a_save_that_wrote_nothing_or_a_part_is_refused(tmp_path):
