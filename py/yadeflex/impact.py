@@ -14,6 +14,7 @@ import contextlib
 import dataclasses
 import math
 import os
+import re
 import sys
 import time
 import traceback
@@ -573,10 +574,17 @@ def fill_only(params, cache_dir=None):
     return EXIT["done"]
 
 
-def _named_file(err):
-    """The file an OSError's message names (VTK's writer: 'VTK could not write PATH'), or its text."""
+def _write_failure_of(err):
+    """The line for an OSError while writing the results: its file and reason; for a frame a child
+    process could not write (its message relayed: '... VTK could not write PATH: REASON ...'),
+    that file and reason."""
+    if err.filename:
+        return write_failure(err.filename, err)
     text = str(err)
-    return text.rsplit(" ", 1)[-1] if text.startswith("VTK could not write ") else text
+    m = re.search(r"VTK could not (?:write|build) (\S+?)(?:: ([^:;'\]]+))?(?=[:;'\]]|$)", text)
+    if m is None:
+        return f"cannot write the results: {text}"
+    return f"cannot write {m.group(1)}: {m.group(2)}" if m.group(2) else write_failure(m.group(1), err)
 
 
 def run_impact(params, out, cache_dir=None, progress=True, **settings):
@@ -605,7 +613,7 @@ def run_impact(params, out, cache_dir=None, progress=True, **settings):
         except (Interrupted, KeyboardInterrupt) as e:
             run.stopped("interrupted", e.args[0] if isinstance(e, Interrupted) else "SIGINT")
         except OSError as e:  # an output file that could not be written (a full disk): one line naming it
-            run.stopped("failed", message=write_failure(e.filename or _named_file(e), e))
+            run.stopped("failed", message=_write_failure_of(e))
         except Exception as e:
             traceback.print_exc()
             run.stopped("failed", message=f"{type(e).__name__}: {e}")

@@ -61,6 +61,7 @@ positions are already advanced by one step while O.time is not: negligible for d
 
 CSV files (EnergyRecorder, read_csv) have headers NAME[UNIT].
 """
+import contextlib
 import csv
 import itertools
 import math
@@ -105,8 +106,7 @@ def _vtk():
     except ImportError as err:
         raise ImportError(f"VTK output needs VTK's Python bindings (Debian: apt-get install python3-vtk9): {err}") from None
     # VTK's log stays off stderr (a writer that fails dumps its pipeline there: _write_vtu raises
-    # naming the file instead); vtkObject.GlobalWarningDisplayOff made VTK 9.1's writer crash on
-    # a full disk
+    # naming the file instead)
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
     return dict(ns=numpy_support, vtkDoubleArray=vtkDoubleArray, vtkIntArray=vtkIntArray, vtkPoints=vtkPoints,
                 vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
@@ -443,12 +443,19 @@ def _write_vtu(vtk, grid, path, time, stamp=None):
     w.SetDataModeToBinary()
     w.SetCompressorTypeToLZ4()  # (zlib's compression took longer than building the frame)
     w.SetHeaderTypeToUInt64()
-    # (Write() returns 1 even when the file could not be opened: the writer's error code tells)
+    # into memory, then to the file from Python: VTK 9.1's writer can crash when the disk fills
+    # under it (a segfault, reproduced on a 200 kB disk), where Python raises OSError naming it
+    w.WriteToOutputStringOn()
     if w.Write() != 1 or w.GetErrorCode() != 0:
-        code = w.GetErrorCode()
-        if 0 < code < 256:
-            raise OSError(code, f"VTK could not write {path}: {os.strerror(code)}", path)
-        raise OSError(f"VTK could not write {path}")
+        raise OSError(f"VTK could not build {path}")
+    text = w.GetOutputString()
+    try:
+        with open(path, "w", encoding="ascii") as fh:  # (inline binary data is base64: ASCII)
+            fh.write(text)
+    except OSError as e:
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+        raise OSError(e.errno, f"VTK could not write {path}: {e.strerror}", path) from None
 
 
 def _write_pvd(path, datasets):
