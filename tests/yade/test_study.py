@@ -357,8 +357,11 @@ def test_a_signal_cancels_the_queue_and_records_every_row(local_study, cache, tm
     rows = [dict(GRID[k], duration="0.2") for k in (0, 1, 2)]
     f = write_study(tmp_path / "s.csv", rows)
     out = str(tmp_path / "s")
+    # (as from a terminal: SIGINT at its default, whatever this suite inherited; a suite started
+    # in the background of a script has it ignored, and a study started so keeps ignoring it)
     proc = subprocess.Popen([sys.executable, os.path.join(REPO, "scripts", "study.py"), f, out, "--workers", "1", "--cache-dir", cache],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     first = os.path.join(out, "runs", rows[0]["name"], "summary.json")
     t0 = time.time()
     while not (os.path.exists(first) and (json.load(open(first)) or {}).get("stage") == "impact"):
