@@ -78,7 +78,21 @@ bool FlexInteractionLoop::fallBack()
 	lastCandidates  = -1;
 	lastFusable     = -1;
 	recScene        = nullptr; // (InteractionLoop may give any pair a geometry: the records start again)
+#ifdef YADE_OPENMP
+	// on one thread: InteractionLoop frees the geometry of a contact that ends while the functors
+	// of other threads may read it (flexa::takeOverShear; the fast path keeps it alive, Step::Ended)
+	const int nt = omp_get_max_threads();
+	omp_set_num_threads(1);
+	try {
+		InteractionLoop::action();
+	} catch (...) {
+		omp_set_num_threads(nt);
+		throw;
+	}
+	omp_set_num_threads(nt);
+#else
 	InteractionLoop::action();
+#endif
 	return true;
 }
 
@@ -129,6 +143,7 @@ void FlexInteractionLoop::action()
 		nFused += cnt.nFused;
 		recalled += cnt.recalled;
 	}
+	step.releaseEnded();
 	if (step.nSums) flexa::mergeThreadSums(scene, sums, step.nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
 	quickRejected   = rejected;
 	quickCandidates = candidates;

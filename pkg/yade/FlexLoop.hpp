@@ -51,10 +51,15 @@
 // ForceContainer once per body after the loop, instead of ForceContainer::addForce per contact,
 // whose writes to fields shared by all threads contend. One thread runs exactly as before.
 //
-// Steps the fast path does not cover run InteractionLoop::action unchanged: interaction
-// callbacks, loopOnSortedInteractions, and the steps on which the collider asks for unseen
-// interactions to be removed (an exception thrown by a functor there still terminates YADE, as
-// in InteractionLoop). On the fast path an exception thrown by a functor stops the threads from
+// A contact that ends is reset in place at once, as InteractionLoop does, but its geometry and
+// physics objects are released only after the loop: on several threads, the functor of a
+// neighbouring contact may be reading them (the shear a contact takes over when it is handed
+// from one element to the next, flexa::takeOverShear).
+//
+// Steps the fast path does not cover run InteractionLoop::action unchanged, on one thread (it
+// frees an ending contact's objects at once): interaction callbacks, loopOnSortedInteractions,
+// and the steps on which the collider asks for unseen interactions to be removed (an exception
+// thrown by a functor there still terminates YADE, as in InteractionLoop). On the fast path an exception thrown by a functor stops the threads from
 // calling further functors and is rethrown after the parallel loop (InteractionLoop would
 // terminate YADE); a pair with no Ip2 or Law2 functor raises a RuntimeError naming the types.
 // The skip of marked pairs does not look at the bodies' MPI subdomains: YADE's MPI mode is not

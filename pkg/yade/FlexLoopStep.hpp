@@ -62,6 +62,14 @@ public:
 	std::exception_ptr error;
 	std::mutex         errorMutex;
 	std::atomic<bool>  failed { false };
+	// each thread's interactions reset this step, whose geometry and physics it keeps alive until
+	// after the loop (resetEnded): the functors of other threads read neighbouring contacts
+	// (flexa::takeOverShear), and InteractionLoop's reset in place would free them under the reader
+	struct Ended {
+		std::vector<shared_ptr<IGeom>> geoms;
+		std::vector<shared_ptr<IPhys>> phys;
+	};
+	std::vector<Ended> ended;
 	// what a thread counts (summed over the threads)
 	struct Counts {
 		long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
@@ -85,6 +93,24 @@ public:
 #ifdef YADE_OPENMP
 		threads = L.ompThreads > 0 ? std::min(L.ompThreads, omp_get_max_threads()) : omp_get_max_threads();
 #endif
+		ended.resize(threads);
+	}
+
+	// InteractionLoop's requestErase (the interaction reset in place, at once, as there), its
+	// geometry and physics released only after the loop (Ended)
+	static void endContact(const shared_ptr<Interaction>& I, Ended& e)
+	{
+		if (I->geom) e.geoms.push_back(I->geom);
+		if (I->phys) e.phys.push_back(I->phys);
+		I->reset();
+	}
+	// after the loop, on one thread: the geometry and physics of the contacts reset during it go
+	void releaseEnded()
+	{
+		for (Ended& e : ended) {
+			e.geoms.clear();
+			e.phys.clear();
+		}
 	}
 
 	// the functors that read the marks and the sphere functors, found again only when the
@@ -322,7 +348,7 @@ public:
 			        const auto blockStart = weighted ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
 			        const long lo = c * block, hi = std::min(n, lo + block);
 			        const int  nLive = listLive(lo, hi, live, fused, cnt);
-			        runLive(live, fused, nLive);
+			        runLive(live, fused, nLive, ended[tid]);
 			        if (weighted) // this block's time, for the next step's split
 				        L.blockWeight[c] = std::chrono::duration<Real>(std::chrono::steady_clock::now() - blockStart).count();
 		        },
@@ -411,7 +437,7 @@ public:
 	// Pass 2: the live ones, with their bodies, geom and phys asked for kMid live interactions
 	// ahead and the bodies' states and shapes kNear ahead (a fused contact reads only its geom and
 	// phys, and the tables).
-	void runLive(const long* live, const bool* fused, int nLive)
+	void runLive(const long* live, const bool* fused, int nLive, Ended& e)
 	{
 		for (int j = 0; j < std::min(nLive, (int)kMid); ++j)
 			flexa::loop::fetchTargets(intrs[live[j]].get(), bodies, fused[j]);
@@ -422,9 +448,9 @@ public:
 			if (j + kNear < nLive && !fused[j + kNear]) flexa::loop::fetchStates(intrs[live[j + kNear]].get(), bodies);
 			try {
 				if (fused[j])
-					runFused(intrs[live[j]]);
+					runFused(intrs[live[j]], e);
 				else
-					runFunctors(intrs[live[j]]);
+					runFunctors(intrs[live[j]], e);
 			} catch (...) {
 				fail(std::current_exception());
 			}
@@ -432,27 +458,27 @@ public:
 	}
 	// what the functors do for a fused contact (Fusable): the geometry's update, the physics
 	// functor returns at once, the law; shift2 is zero (not periodic)
-	void runFused(const shared_ptr<Interaction>& I)
+	void runFused(const shared_ptr<Interaction>& I, Ended& e)
 	{
 		const Body::id_t   i1 = I->getId1(), i2 = I->getId2();
 		const SpherePoint &a = pts[i1], &b = pts[i2];
 		FlexContactGeom&   g = static_cast<FlexContactGeom&>(*I->geom);
 		Ig2_Sphere_Sphere_FlexContactGeom::update(scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z),
 		        Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel, mot[i2].vel, mot[i2].angVel);
-		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) ic.requestErase(I);
+		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) endContact(I, e);
 	}
 	// the geometry, physics and law functors of one interaction, as InteractionLoop calls them
-	void runFunctors(const shared_ptr<Interaction>& I)
+	void runFunctors(const shared_ptr<Interaction>& I, Ended& e)
 	{
 		Body* b1_ = bodies.get(I->getId1());
 		Body* b2_ = bodies.get(I->getId2());
 		if (!b1_ || !b2_) {
-			ic.requestErase(I); // a body vanished
+			endContact(I, e); // a body vanished
 			return;
 		}
 #ifdef YADE_MPI
 		if (scene->subdomain != b1_->subdomain && scene->subdomain != b2_->subdomain) {
-			ic.requestErase(I->getId1(), I->getId2());
+			endContact(I, e);
 			return;
 		}
 #endif
@@ -475,7 +501,7 @@ public:
 		const bool     wasReal = I->isReal();
 		const Vector3r shift2  = scene->isPeriodic ? Vector3r(cellH * I->cellDist.cast<Real>()) : Vector3r(Vector3r::Zero());
 		if (!I->functorCache.geom->go(b1->shape, b2->shape, *b1->state, *b2->state, shift2, /*force*/ false, I)) {
-			if (wasReal) ic.requestErase(I); // the geometry ended: the interaction is reset
+			if (wasReal) endContact(I, e); // the geometry ended: the interaction is reset
 			return;
 		}
 		if (!I->functorCache.phys) {
@@ -494,7 +520,7 @@ public:
 				throw std::runtime_error("FlexInteractionLoop: no Law2 functor for " + I->geom->getClassName() + " and "
 				        + I->phys->getClassName() + " (bodies #" + std::to_string(b1->id) + " and #" + std::to_string(b2->id) + ")");
 		}
-		if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) ic.requestErase(I);
+		if (!I->functorCache.constLaw->go(I->geom, I->phys, I.get())) endContact(I, e);
 	}
 };
 
