@@ -5,6 +5,10 @@
 
 #include <vector>
 
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
+
 namespace yade {
 namespace flexa {
 
@@ -73,12 +77,27 @@ namespace flexa {
 	/// other id since the last merge. Defined in FlexLoop.cpp.
 	void mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, long from = 0, long to = -1);
 
+	/// A term's first value inside a parallel region, kept until bookDeferredEnergies names the
+	/// term and adds it, on one thread. EnergyTracker::findId cannot run on several threads: it
+	/// reads its map of names outside its critical section while another thread may insert, two
+	/// threads can both name the term (two slots, one of them left out of O.energy.keys()), and a
+	/// new term reallocates every thread's sums while the other threads add to them.
+	void deferEnergy(Real val, const char* name, int& ix, bool reset);
+	/// After a parallel region, on one thread: the deferred terms named (their indices set) and
+	/// their values added. Defined in FlexLoop.cpp.
+	void bookDeferredEnergies(Scene* scene);
+
 	/// scene->energy->add without building a std::string from the name at every call (the hot
-	/// path, once the term has its index), called per contact, element and body.
+	/// path, once the term has its index), called per contact, element and body. A term not yet
+	/// named, inside a parallel region: deferEnergy.
 	inline void addEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)
 	{
 		if (ix >= 0)
 			scene->energy->energies.add(ix, val);
+#ifdef YADE_OPENMP
+		else if (omp_in_parallel())
+			deferEnergy(val, name, ix, reset);
+#endif
 		else
 			scene->energy->add(val, name, ix, reset);
 	}

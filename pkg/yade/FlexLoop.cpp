@@ -59,6 +59,33 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, lo
 	}
 }
 
+namespace {
+	struct DeferredEnergy {
+		const char* name;
+		int*        ix;
+		bool        reset;
+		Real        val;
+	};
+	std::mutex                  deferredMutex;
+	std::vector<DeferredEnergy> deferred; // (a few entries, on the steps a term first appears)
+} // namespace
+
+void flexa::deferEnergy(Real val, const char* name, int& ix, bool reset)
+{
+	std::lock_guard<std::mutex> lock(deferredMutex);
+	deferred.push_back(DeferredEnergy { name, &ix, reset, val });
+}
+
+void flexa::bookDeferredEnergies(Scene* scene)
+{
+	std::lock_guard<std::mutex> lock(deferredMutex);
+	for (const DeferredEnergy& d : deferred) {
+		if (*d.ix < 0) scene->energy->findId(d.name, *d.ix, d.reset);
+		scene->energy->energies.add(*d.ix, d.val);
+	}
+	deferred.clear();
+}
+
 // Whether this step needs InteractionLoop's own loop (and runs it): callbacks, sorted
 // interactions, the collider's removal of unseen interactions, settings out of range.
 bool FlexInteractionLoop::fallBack()
@@ -144,6 +171,7 @@ void FlexInteractionLoop::action()
 		recalled += cnt.recalled;
 	}
 	step.releaseEnded();
+	flexa::bookDeferredEnergies(scene);
 	if (step.nSums) flexa::mergeThreadSums(scene, sums, step.nSums); // (also after an error: the forces added so far stay, as in InteractionLoop)
 	quickRejected   = rejected;
 	quickCandidates = candidates;

@@ -28,15 +28,30 @@ namespace flexa {
 		return flex::ownsPair(SceneMesh { scene }, idA, A, idB, B, beaten, nBeaten);
 	}
 
+	/// A neighbouring contact's geometry and physics, read by another thread's functor while its
+	/// own thread may reset it: each pointer is loaded once (a copy of the shared_ptr would read
+	/// a pointer and a count that may be changing); the objects stay alive until the end of the
+	/// loop (FlexInteractionLoop, Step::Ended).
+	inline bool readContact(const Interaction& J, const FlexContactGeom*& jg, const FrictPhys*& jp)
+	{
+		const IGeom* g = J.geom.get();
+		const IPhys* p = J.phys.get();
+		if (!g || !p) return false;
+		jg = dynamic_cast<const FlexContactGeom*>(g);
+		jp = dynamic_cast<const FrictPhys*>(p);
+		return jg && jp;
+	}
+
 	/// Shear force (on body 2 of I) that one of the `beaten` pairs (A-side id, B-side id; see
 	/// ownsPair) carried at the previous step; aIs1: whether I's body 1 is its A-side element.
 	inline bool takeOverPairShear(Scene* scene, bool aIs1, const std::pair<Body::id_t, Body::id_t>* beaten, int nBeaten, Vector3r& shear)
 	{
 		for (int k = 0; k < nBeaten; ++k) {
 			const shared_ptr<Interaction> J = scene->interactions->find(beaten[k].first, beaten[k].second);
-			if (!J || !J->geom || !J->phys) continue;
-			const FlexContactGeom* jg = dynamic_cast<const FlexContactGeom*>(J->geom.get());
-			const FrictPhys*       jp = dynamic_cast<const FrictPhys*>(J->phys.get());
+			if (!J) continue;
+			const FlexContactGeom* jg = nullptr;
+			const FrictPhys*       jp = nullptr;
+			if (!readContact(*J, jg, jp)) continue;
 			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
 			const bool same = (J->getId1() == beaten[k].first) == aIs1;
 			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
@@ -51,9 +66,10 @@ namespace flexa {
 	{
 		for (int k = 0; k < nBeaten; ++k) {
 			const shared_ptr<Interaction> J = scene->interactions->find(otherBody, beaten[k]);
-			if (!J || !J->geom || !J->phys) continue;
-			const FlexContactGeom* jg = dynamic_cast<const FlexContactGeom*>(J->geom.get());
-			const FrictPhys*       jp = dynamic_cast<const FrictPhys*>(J->phys.get());
+			if (!J) continue;
+			const FlexContactGeom* jg = nullptr;
+			const FrictPhys*       jp = nullptr;
+			if (!readContact(*J, jg, jp)) continue;
 			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
 			// shear is stored as the force on body 2: flip it if the other body sits on opposite sides
 			const bool same = (J->getId1() == otherBody) == (id1 == otherBody);

@@ -121,10 +121,35 @@ namespace flexa {
 		return false;
 	}
 
+	namespace {
+		// the engines of the yade-flex order inside a ParallelEngine (which runs its slave groups
+		// at the same time): they share the scene's containers and must run one after another
+		void refuseParallelSlaves(const Engine& e, size_t at, const Engine& top)
+		{
+			const ParallelEngine* par = dynamic_cast<const ParallelEngine*>(&e);
+			if (!par) return;
+			for (const auto& group : par->slaves)
+				for (const auto& slave : group) {
+					if (rank(slave.get()) >= 0) {
+						std::ostringstream s;
+						s << "O.engines: " << name(top, at) << " holds " << slave->getClassName()
+						  << ", which must run on its own in O.engines: a ParallelEngine runs its slaves at the same time, and the "
+						     "yade-flex engines (InsertionSortCollider, (Flex)InteractionLoop, FlexElementEngine, FlexTimeStepper, "
+						     "(Flex)NewtonIntegrator) share the scene's bodies and interactions";
+						throw std::invalid_argument(s.str());
+					}
+					if (slave) refuseParallelSlaves(*slave, at, top);
+				}
+		}
+	} // namespace
+
 	void checkEngineOrder(const Scene* scene)
 	{
-		EngineMemo& m = memo();
-		if (m.same(scene) && m.orderChecked) return;
+		EngineMemo& m    = memo();
+		const bool  same = m.same(scene);
+		for (size_t i : m.parallel) // (looked at each time: its slaves can change without a change of the list)
+			if (scene->engines[i]) refuseParallelSlaves(*scene->engines[i], i, *scene->engines[i]);
+		if (same && m.orderChecked) return;
 		const auto& engines = scene->engines;
 		int         best    = -1;
 		size_t      at      = 0;

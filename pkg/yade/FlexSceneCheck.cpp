@@ -6,6 +6,7 @@
 #include "FlexTuning.hpp"
 #include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
+#include "FlexLoop.hpp"
 
 #include <core/InteractionLoop.hpp>
 #include <boost/python/detail/wrap_python.hpp>
@@ -162,6 +163,31 @@ namespace flexa {
 			os << "." << field << " must be " << need << ", got " << v;
 			throw std::invalid_argument(os.str());
 		}
+		// YADE's own InteractionLoop with the yade-flex geometry functors, on several threads: it
+		// frees the objects of a contact that ends while a neighbouring contact's functor, on
+		// another thread, reads them (the shear handed over, flexa::takeOverShear);
+		// FlexInteractionLoop keeps them until the end of the loop
+		void refuseThreadedPlainLoop(const InteractionLoop& il)
+		{
+			if (dynamic_cast<const FlexInteractionLoop*>(&il) || !il.geomDispatcher) return;
+#ifdef YADE_OPENMP
+			const int threads = il.ompThreads > 0 ? std::min(il.ompThreads, omp_get_max_threads()) : omp_get_max_threads();
+#else
+			const int threads = 1;
+#endif
+			if (threads <= 1) return;
+			for (const auto& f : il.geomDispatcher->functors)
+				if (f && f->getClassName().find("FlexContactGeom") != std::string::npos) {
+					std::ostringstream os;
+					os << il.getClassName();
+					if (!il.label.empty()) os << " '" << il.label << "'";
+					os << " runs the yade-flex functor " << f->getClassName() << " on " << threads
+					   << " threads, where an ending contact's objects are freed while a neighbouring contact reads them: use "
+					      "FlexInteractionLoop (yadeflex.engines() builds it), or set ompThreads=1 on this loop";
+					throw std::invalid_argument(os.str());
+				}
+		}
+
 		// the engines' parameters that enter every step's arithmetic
 		void checkEngines(const Scene* scene)
 		{
@@ -171,7 +197,8 @@ namespace flexa {
 					if (!(nw->damping >= 0 && nw->damping < 1)) refuseEngine(*nw, "damping", nw->damping, "in [0, 1)");
 					for (int k = 0; k < 3; ++k)
 						if (!std::isfinite(nw->gravity[k])) refuseEngine(*nw, "gravity", nw->gravity[k], "finite");
-				} else if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get()))
+				} else if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get())) {
+					refuseThreadedPlainLoop(*il);
 					for (const auto& f : il->lawDispatcher->functors)
 						if (const auto* law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get())) {
 							if (!(std::isfinite(law->rollingStiffness) && law->rollingStiffness >= 0))
@@ -181,6 +208,7 @@ namespace flexa {
 							if (!(std::isfinite(law->onsetFactor) && law->onsetFactor > 0))
 								refuseEngine(*law, "onsetFactor", law->onsetFactor, "finite and positive");
 						}
+				}
 			}
 		}
 	} // namespace

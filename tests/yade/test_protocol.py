@@ -81,3 +81,24 @@ def test_marks_are_not_read_after_the_engines_are_replaced(scene):
     O.step()
     assert O.interactions.countReal() == 1
     assert O.forces.f(1)[0] > 0  # pushed away from the first sphere
+
+
+@pytest.mark.parametrize("label", ["collider", "flexElements", "flexDt", "newton"])
+def test_engines_inside_a_parallel_engine_are_refused(scene, label):
+    """A ParallelEngine runs its slave groups at the same time; the yade-flex engines share the
+    scene's bodies and interactions and must run one after another. Looked at on every step (a
+    slave can be swapped without a change of O.engines). (Refused by the first yade-flex engine
+    outside it: an exception thrown inside the ParallelEngine's threads ends the process.)"""
+    from yade.wrapper import ParallelEngine, PyRunner
+    _two_spheres()
+    O.step()
+    engines = list(O.engines)
+    i = engines.index(_engine(label))
+    engines[i] = ParallelEngine([[engines[i]], [PyRunner(command="pass")]])
+    O.engines = engines
+    with pytest.raises(ValueError, match=f"ParallelEngine.*holds {type(_engine_in(engines[i])).__name__}.*at the same time"):
+        O.step()
+
+
+def _engine_in(par):
+    return par.slaves[0][0] if isinstance(par.slaves[0], list) else par.slaves[0]

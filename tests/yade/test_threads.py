@@ -118,3 +118,35 @@ def test_contacts_copied_on_two_threads_are_exact_copies():
     assert on["compacted"] == on["before"] and on["blocks"] == 2
     assert len(on["rows"]) == len(off["rows"]) >= on["before"]
     assert on["rows"] == off["rows"]
+
+
+def _guard(j, mode):
+    out = run_yade(os.path.join(HERE, "scripts", "threads_guard_scene.py"), threads=j, args=[mode])
+    tag = {"energy": "ENERGY ", "plainloop": "PLAIN "}[mode]
+    return json.loads([l for l in out.splitlines() if l.startswith(tag)][-1][len(tag):])
+
+
+def test_energy_terms_first_named_on_several_threads_are_named_once():
+    """The contact law names its energy terms on the first step with contacts, from every thread
+    at once; YADE's EnergyTracker cannot name a term from several threads (a term named twice
+    leaves a slot counted in O.energy.total() but not in its keys; a new term reallocates the
+    threads' sums while they add). The names wait for the end of the loop: the same terms as on
+    one thread, the same values to round-off, and the keys sum to the total."""
+    a, b = _guard(1, "energy"), _guard(2, "energy")
+    assert a["contacts"] > 3000 and b["contacts"] == a["contacts"]
+    assert "flexContactElastic" in a["keys"] and b["keys"] == a["keys"]
+    for k, v in a["values"].items():
+        assert abs(b["values"][k] - v) <= 1e-12 * max(abs(v), 1e-30), k
+    assert a["values"]["flexContactElastic"] > 0
+    for r in (a, b):
+        assert abs(r["sum"] - r["total"]) <= 1e-12 * abs(r["total"])
+
+
+def test_yade_interaction_loop_with_flex_functors_is_refused_on_two_threads():
+    """YADE's InteractionLoop frees an ending contact's objects at once, while on another thread
+    the functor of a neighbouring contact may read them (the shear handed over): with the
+    yade-flex functors it is refused on several threads, naming the fix, and runs on one."""
+    two, one = _guard(2, "plainloop"), _guard(1, "plainloop")
+    assert "InteractionLoop 'plain'" in two["refused"] and "2 threads" in two["refused"] and "FlexInteractionLoop" in two["refused"]
+    assert one["refused"] == "" and one["iter"] == 51  # (the first step and 50 more)
+    assert two["iter"] == 50  # (the refused step did not end; then ompThreads=1: runs)
