@@ -4,7 +4,11 @@
 Xvfb picks its own display number with -displayfd: it takes the first free one by creating its
 lock file, so that two callers starting at the same moment get two displays (xvfb-run -a looks
 for a free number first and starts the server after, so that two of them can pick the same one:
-one program then draws on the other's server, or on one that is going away)."""
+one program then draws on the other's server, or on one that is going away).
+
+The server runs with -noreset: an X server by default resets when its last client disconnects
+and refuses connections meanwhile, and pvpython connects several times in a row (refused on a
+loaded machine: "bad X server connection", then an abort)."""
 import contextlib
 import os
 import shutil
@@ -22,7 +26,7 @@ def virtual_display(width=1600, height=1200):
     r, w = os.pipe()
     with tempfile.TemporaryFile(mode="w+") as log:
         try:
-            p = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", f"{width}x{height}x24", "-nolisten", "tcp"],
+            p = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", f"{width}x{height}x24", "-nolisten", "tcp", "-noreset"],
                                  pass_fds=(w,), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=log)
         finally:
             os.close(w)

@@ -61,13 +61,13 @@ def run_open_run(args, timeout=600):
     cmd = cmd + [OPEN_RUN] + [str(a) for a in args]
     if not display:
         return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-    for _ in range(3):
+    # each attempt on a display of its own; a failed attempt's output is kept above the next one's
+    earlier = ""
+    for attempt in range(3):
         with _xdisplay().virtual_display() as d:
             r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=d))
-        # pvpython sometimes fails to connect to a live, new display when several render at once
-        # (1 run in 15 with three at a time here; after a retry, 33 of 33), or aborts creating its
-        # window on it when the machine is loaded (SIGABRT in vtkXOpenGLRenderWindow::CreateAWindow,
-        # 1 in a loaded suite run): again, on another display
         if "bad X server connection" not in r.stderr and not (r.returncode != 0 and "XOpenGLRenderWindow" in r.stderr):
             break
+        earlier += f"--- pvpython attempt {attempt + 1} on display {d} failed (exit {r.returncode}):\n{r.stderr[-3000:]}\n"
+    r.stderr = earlier + r.stderr
     return r
