@@ -9,6 +9,19 @@ namespace flex {
 
 namespace {
 	int sideOf(double signedDistance, int side) { return side != 0 ? (side > 0 ? 1 : -1) : (signedDistance < 0 ? -1 : 1); }
+
+	// best becomes the segment point ss.p1 against the surface point sp, if it is the nearest yet
+	void keepNearest(SegmentEdge& best, const SegmentSegment& ss, const SurfacePoint& sp)
+	{
+		if (best.valid && best.distance <= sp.distance) return;
+		best.valid     = true;
+		best.u         = ss.s;
+		best.onSegment = ss.p1;
+		best.point     = sp.point;
+		best.normal    = sp.normal;
+		best.distance  = sp.distance;
+		best.support   = sp.support;
+	}
 } // namespace
 
 SurfacePoint nodeOnPlane(const Vec3& x, int axis, double pos, int sense, int side)
@@ -68,13 +81,7 @@ SegmentEdge segmentOnBoxEdges(const Vec3& x0, const Vec3& x1, const Vec3& ext)
 			const SurfacePoint sp = nodeOnBox(ss.p1, ext);
 			if (!(sp.distance > 0) || (sp.point - ss.p2).norm() > tol) continue; // inside, or a face is nearer
 			if (!(sp.distance < d0 && sp.distance < d1)) continue;
-			if (best.valid && best.distance <= sp.distance) continue;
-			best.valid     = true;
-			best.u         = ss.s;
-			best.onSegment = ss.p1;
-			best.point     = sp.point;
-			best.normal    = sp.normal;
-			best.distance  = sp.distance;
+			keepNearest(best, ss, sp);
 		}
 	return best;
 }
@@ -96,6 +103,54 @@ SurfacePoint nodeOnTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const V
 	s.distance = d.norm();
 	s.normal   = s.distance > 0 ? Vec3(d / s.distance) : Vec3(w * nf);
 	return s;
+}
+
+SegmentEdge segmentOnTriangleEdges(const Vec3& x0, const Vec3& x1, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+	SegmentEdge  best;
+	const double d0 = std::abs(nodeOnTriangle(x0, a, b, c, 0).distance), d1 = std::abs(nodeOnTriangle(x1, a, b, c, 0).distance);
+	const double len = std::max({ (b - a).norm(), (c - b).norm(), (a - c).norm() });
+	const double tol = 1e-12 * (len + a.norm() + x0.norm() + x1.norm());
+	const double near = kNodeTie * (len + (x1 - x0).norm());
+	const Vec3*  v[3] = { &a, &b, &c };
+	for (int k = 0; k < 3; ++k) {
+		const SegmentSegment ss = closestPointsSegments(x0, x1, *v[k], *v[(k + 1) % 3]);
+		if (!(ss.s > 0 && ss.s < 1)) continue;
+		const SurfacePoint sp = nodeOnTriangle(ss.p1, a, b, c, 0);
+		// the face nearer (the segment over the face: a node ties or is nearer), or the point found
+		// on this edge not the triangle's closest (another edge's)
+		if (sp.support == 7 || !(sp.distance > 0) || (sp.point - ss.p2).norm() > tol) continue;
+		if (!(sp.distance < d0 - near && sp.distance < d1 - near)) continue;
+		keepNearest(best, ss, sp);
+	}
+	return best;
+}
+
+void segmentOnFacets(const Vec3& x0, const Vec3& x1, double r, const Vec3 (*tri)[3], const int* ids, int n, SegmentEdge* edge, FacetHit* hit)
+{
+	for (int k = 0; k < n; ++k) {
+		edge[k]        = segmentOnTriangleEdges(x0, x1, tri[k][0], tri[k][1], tri[k][2]);
+		hit[k].id      = ids[k];
+		hit[k].support = edge[k].support;
+		hit[k].overlap = edge[k].valid ? r - edge[k].distance : -1;
+		for (int j = 0; j < 3; ++j)
+			hit[k].v[j] = tri[k][j];
+	}
+	// another facet as near to the segment's point, at another point of the surface (its face, or
+	// an edge the two do not share): the surface's closest point is not this edge. At an edge or
+	// vertex two facets share, both reach the same point: the cluster carries it once.
+	for (int k = 0; k < n; ++k) {
+		if (!(hit[k].overlap > 0)) continue;
+		const double tol = kNodeTie * std::max({ (tri[k][1] - tri[k][0]).norm(), (tri[k][2] - tri[k][1]).norm(), (tri[k][0] - tri[k][2]).norm() });
+		for (int j = 0; j < n; ++j) {
+			if (j == k) continue;
+			const SurfacePoint o = nodeOnTriangle(edge[k].onSegment, tri[j][0], tri[j][1], tri[j][2], 0);
+			if (std::abs(o.distance) <= edge[k].distance + tol && (o.point - edge[k].point).norm() > tol) {
+				hit[k].overlap = -1;
+				break;
+			}
+		}
+	}
 }
 
 bool onSharedFeature(const FacetHit& a, const FacetHit& b)

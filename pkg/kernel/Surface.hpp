@@ -9,9 +9,10 @@
 // spheres, one per node, with the largest radius of the elements on the node. Per element they
 // would count a node once per element on it (a chain lying on a floor pushes twice at each
 // node) and carry one point of a line contact. A box face or a facet's face is a plane in its
-// region, so the same holds there. Between its nodes an element meets a box at an edge
-// (segmentOnBoxEdges); an element that spans a facet's edge between its nodes is not met (the
-// limit stated in the README).
+// region, so the same holds there. Between its nodes a cylinder meets a box or a triangle only at
+// an edge or a vertex (segmentOnBoxEdges, segmentOnTriangleEdges): the distance from a convex
+// body is convex along a segment, so a segment has at most one such point (or a stretch that ties
+// with a node, which the node's contact carries).
 //
 // A surface made of several facets: a node over a shared edge or vertex touches each facet at
 // the same point with the same overlap, and a node over one facet's face near its edge still
@@ -49,6 +50,12 @@ SurfacePoint nodeOnPlane(const Vec3& x, int axis, double pos, int sense, int sid
 /// point of the box. Inside: the closest point of the nearest face, distance negative.
 SurfacePoint nodeOnBox(const Vec3& x, const Vec3& ext);
 
+/// Distances within kNodeTie x the sizes involved count as equal: a facet edge contact is kept only
+/// where it is nearer than both nodes by more (one found a round-off away from a node is the node's,
+/// whose own contact carries it; the overlap changes by no more when the contact passes between
+/// them). segmentOnBoxEdges compares exactly.
+constexpr double kNodeTie = 1e-9;
+
 /// The contact of an element's interior with a box edge: the segment (x0, x1) in the box's frame
 /// (half-sizes ext). A box's face can meet a capsule's interior only where its deepest point is a
 /// node (a plane: above); between its nodes an element meets the box at an edge (a wire draped
@@ -61,6 +68,7 @@ struct SegmentEdge {
 	double u     = 0;
 	Vec3   onSegment = Vec3::Zero(), point = Vec3::Zero(), normal = Vec3::Zero();
 	double distance = 0;
+	unsigned support = 7; ///< a triangle: its vertices carrying `point` (an edge's two, or one); a box: 7
 };
 SegmentEdge segmentOnBoxEdges(const Vec3& x0, const Vec3& x1, const Vec3& ext);
 
@@ -70,7 +78,21 @@ SegmentEdge segmentOnBoxEdges(const Vec3& x0, const Vec3& x1, const Vec3& ext);
 /// (on the plane's side `side` when x lies on the triangle's boundary).
 SurfacePoint nodeOnTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, int side);
 
-/// One facet contact of a node, for the ownership among the node's facet contacts.
+/// The same for the triangle (a, b, c) (YADE's Facet): valid where the triangle's closest point to
+/// the segment lies on an edge or vertex (not its face), at an interior point of the segment off
+/// the triangle, nearer than both nodes. A wire over a ridge or the rim of a surface of facets.
+/// support: the vertices carrying the point (for the ownership among facets, FacetHit).
+SegmentEdge segmentOnTriangleEdges(const Vec3& x0, const Vec3& x1, const Vec3& a, const Vec3& b, const Vec3& c);
+
+struct FacetHit;
+/// A segment's interior against a surface of facets: for facet k (vertices tri[k], body id ids[k])
+/// its segmentOnTriangleEdges in edge[k] and, for ownsFacetCluster, hit[k] with the overlap
+/// r - distance, set to -1 where there is none or where another of the facets is nearer to the
+/// segment's point than this edge (a point over a neighbour's face, or a coplanar neighbour's
+/// shared edge, is that face's, and the nodes carry it). n <= 64.
+void segmentOnFacets(const Vec3& x0, const Vec3& x1, double r, const Vec3 (*tri)[3], const int* ids, int n, SegmentEdge* edge, FacetHit* hit);
+
+/// One facet contact of a node (or of a cylinder's interior, segmentOnFacets), for the ownership among the node's facet contacts.
 struct FacetHit {
 	int      id = -1;  ///< the facet's body id
 	double   overlap;  ///< r - distance

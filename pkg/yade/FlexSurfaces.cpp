@@ -15,7 +15,8 @@
 
 namespace yade {
 
-YADE_PLUGIN((Ig2_Wall_FlexNode_FlexContactGeom)(Ig2_Box_FlexNode_FlexContactGeom)(Ig2_Box_FlexCylinder_FlexContactGeom)(Ig2_Facet_FlexNode_FlexContactGeom));
+YADE_PLUGIN((Ig2_Wall_FlexNode_FlexContactGeom)(Ig2_Box_FlexNode_FlexContactGeom)(Ig2_Box_FlexCylinder_FlexContactGeom)(Ig2_Facet_FlexNode_FlexContactGeom)(
+        Ig2_Facet_FlexCylinder_FlexContactGeom));
 
 namespace flexa {
 	Real nodeContactRadius(const Scene* scene, const FlexNode& node)
@@ -136,43 +137,102 @@ bool Ig2_Box_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const sh
 	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, alone);
 }
 
+namespace {
+	// A cylinder's interior against a surface's edge or vertex (e in the world frame; own: e valid,
+	// overlapping and carried by this pair). Where e is not valid the interaction keeps the
+	// geometry of its last step: the contact has passed to a node at the same overlap, or apart.
+	bool cylinderEdgeGeom(Scene* scene, const shared_ptr<Interaction>& I, const State& sS, const FlexCylinder& c, const State* sa, const State* sb,
+	        const flex::SegmentEdge& e, bool own, bool force, const Body::id_t* beaten, int nb)
+	{
+		if (!I->geom && !own && !force) return false;
+		if (!I->geom) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
+		FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
+		if (e.valid) {
+			const Real overlap = c.radius - e.distance;
+			g.normal           = e.normal;
+			g.penetrationDepth = overlap;
+			g.refR1 = g.refR2  = c.radius;
+			g.contactPoint     = e.point - 0.5 * overlap * e.normal;
+			g.nodes1           = Vector2i(-1, -1);
+			g.nodes2           = Vector2i(c.node1, c.node2);
+			g.tri1 = g.tri2 = Vector3i(-1, -1, -1);
+			g.u1            = 0;
+			g.u2            = e.u;
+			g.axis1         = sS.pos;
+			g.axis2         = e.onSegment;
+			const Vector3r v1 = sS.vel + sS.angVel.cross(g.contactPoint - sS.pos);
+			const Vector3r v2 = flex::segmentPointVelocity(e.u, e.onSegment, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
+			g.relVel          = v2 - v1;
+		}
+		flexa::finishGeom(scene, g, own, I.get(), I->getId2(), beaten, nb);
+		return true;
+	}
+
+} // namespace
+
 bool Ig2_Box_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State&,
         const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	if (scene->isPeriodic) throw std::runtime_error("Ig2_Box_FlexCylinder_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
-	const Box&          box   = static_cast<const Box&>(*cm1);
-	const FlexCylinder& c     = static_cast<const FlexCylinder&>(*cm2);
-	const bool          isNew = !I->geom;
+	const Box&          box = static_cast<const Box&>(*cm1);
+	const FlexCylinder& c   = static_cast<const FlexCylinder&>(*cm2);
 	const State *       sa = flexa::stateOf(scene, c.node1), *sb = flexa::stateOf(scene, c.node2);
 	flex::SegmentEdge   e;
 	if (sa && sb) {
 		const Quaternionr q = sS.ori.conjugate();
 		e                   = flex::segmentOnBoxEdges(q * (sa->pos - sS.pos), q * (sb->pos - sS.pos), box.extents);
+		e.normal            = sS.ori * e.normal;
+		e.point             = sS.pos + sS.ori * e.point;
+		e.onSegment         = sS.pos + sS.ori * e.onSegment;
 	}
-	const Real overlap = c.radius - e.distance;
-	const bool own     = e.valid && overlap > 0;
-	if (isNew && !own && !force) return false;
-	if (isNew) I->geom = shared_ptr<FlexContactGeom>(new FlexContactGeom);
-	FlexContactGeom& g = static_cast<FlexContactGeom&>(*I->geom);
-	if (e.valid) { // (else it ends with the geometry of its last step: passed to a node at the same overlap, or apart)
-		const Vector3r n = sS.ori * e.normal, pe = sS.pos + sS.ori * e.point, pa = sS.pos + sS.ori * e.onSegment;
-		g.normal           = n;
-		g.penetrationDepth = overlap;
-		g.refR1 = g.refR2  = c.radius;
-		g.contactPoint     = pe - 0.5 * overlap * n;
-		g.nodes1           = Vector2i(-1, -1);
-		g.nodes2           = Vector2i(c.node1, c.node2);
-		g.tri1 = g.tri2 = Vector3i(-1, -1, -1);
-		g.u1            = 0;
-		g.u2            = e.u;
-		g.axis1         = sS.pos;
-		g.axis2         = pa;
-		const Vector3r v1 = sS.vel + sS.angVel.cross(g.contactPoint - sS.pos);
-		const Vector3r v2 = flex::segmentPointVelocity(e.u, pa, g.contactPoint, sa->vel, sa->angVel, sb->vel, sb->angVel);
-		g.relVel          = v2 - v1;
+	return cylinderEdgeGeom(scene, I, sS, c, sa, sb, e, e.valid && c.radius - e.distance > 0, force, nullptr, 0);
+}
+
+bool Ig2_Facet_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>&, const shared_ptr<Shape>& cm2, const State& sS, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Facet_FlexCylinder_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const FlexCylinder& c  = static_cast<const FlexCylinder&>(*cm2);
+	const State *       sa = flexa::stateOf(scene, c.node1), *sb = flexa::stateOf(scene, c.node2);
+	const Body*         cyl = flexa::bodyAt(scene, I->getId2());
+	// the cylinder against every facet it is paired with (the surface around this one; the loop
+	// does not change the maps it reads), computed from the geometry alone: the edge point of this
+	// facet only where no other facet is nearer, one contact per point (kernel/Surface.hpp)
+	constexpr int     kMax = 64;
+	Vector3r          tri[kMax][3];
+	int               ids[kMax];
+	flex::SegmentEdge edge[kMax];
+	flex::FacetHit    hit[kMax];
+	int               n = 0, me = -1;
+	if (sa && sb && cyl)
+		for (const auto& kv : cyl->intrs) {
+			const Body* b = flexa::bodyAt(scene, kv.first);
+			if (!b || !b->shape) continue;
+			const Facet* f = flexa::fastCast<Facet>(b->shape.get());
+			if (!f) continue;
+			if (n == kMax) {
+				if (me >= 0) break;
+				n = kMax - 1; // (keep a slot for this facet)
+			}
+			if (b->id == I->getId1()) me = n;
+			facetVertices(*f, *b->state, tri[n]);
+			ids[n++] = b->id;
+		}
+	flex::SegmentEdge e;
+	Body::id_t        beaten[8];
+	int               nb  = 0;
+	bool              own = false;
+	if (me >= 0) {
+		flex::segmentOnFacets(sa->pos, sb->pos, c.radius, tri, ids, n, edge, hit);
+		e = edge[me];
+		if (hit[me].overlap > 0) {
+			int got[8];
+			own = flex::ownsFacetCluster(hit, n, me, got, nb);
+			for (int k = 0; k < nb; ++k)
+				beaten[k] = got[k];
+		}
 	}
-	flexa::finishGeom(scene, g, own, I.get(), -1, nullptr, 0);
-	return true;
+	return cylinderEdgeGeom(scene, I, sS, c, sa, sb, e, own, force, beaten, nb);
 }
 
 bool Ig2_Facet_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
@@ -317,7 +377,7 @@ namespace flexa {
 			return false;
 		};
 		const char* names[3] = { "Ig2_Wall_FlexNode_FlexContactGeom", "Ig2_Box_FlexNode_FlexContactGeom", "Ig2_Facet_FlexNode_FlexContactGeom" };
-		const char* extra[3] = { nullptr, "Ig2_Box_FlexCylinder_FlexContactGeom", nullptr };
+		const char* extra[3] = { nullptr, "Ig2_Box_FlexCylinder_FlexContactGeom", "Ig2_Facet_FlexCylinder_FlexContactGeom" };
 		for (const auto& b : *scene->bodies) {
 			if (!b || !b->shape || b->isClump()) continue;
 			const SurfaceKind k = kindOf(b->shape.get());

@@ -5,7 +5,8 @@
 //  - Ig2_Wall_FlexNode_FlexContactGeom, Ig2_Box_FlexNode_FlexContactGeom,
 //    Ig2_Facet_FlexNode_FlexContactGeom: the contact of a node sphere (the largest radius of the
 //    elements on the node, flexa::nodeContactRadius) with the surface;
-//  - Ig2_Box_FlexCylinder_FlexContactGeom: a cylinder against a box edge between its nodes;
+//  - Ig2_Box_FlexCylinder_FlexContactGeom, Ig2_Facet_FlexCylinder_FlexContactGeom: a cylinder
+//    against a box's or a facet's edge or vertex between its nodes;
 //  - flexa::addSurfaceNodePairs: nodes have no bound, so the collider never pairs them; it pairs
 //    their elements with the surfaces. FlexInteractionLoop calls this at the start of each step on
 //    which the collider ran or the container changed: for each pair (element, surface) it makes
@@ -85,12 +86,29 @@ public:
 		throw std::logic_error("Ig2_Facet_FlexNode_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
 	}
 	// clang-format off
-	YADE_CLASS_BASE_DOC(Ig2_Facet_FlexNode_FlexContactGeom, IGeomFunctor, "YADE :yref:`Facet` - :yref:`FlexNode` contact: the node as a sphere of the largest radius of the elements on it, against the facet's face (pushed back towards the side the contact started from), edges and vertices. On a surface of several facets, a node over an edge or vertex the facets share carries one contact, the deepest (pkg/kernel/Surface.hpp); a node in a valley touches both faces. Elements meet facets at their nodes: an element spanning a facet edge between its nodes is not held by that edge.");
+	YADE_CLASS_BASE_DOC(Ig2_Facet_FlexNode_FlexContactGeom, IGeomFunctor, "YADE :yref:`Facet` - :yref:`FlexNode` contact: the node as a sphere of the largest radius of the elements on it, against the facet's face (pushed back towards the side the contact started from), edges and vertices. On a surface of several facets, a node over an edge or vertex the facets share carries one contact, the deepest (pkg/kernel/Surface.hpp); a node in a valley touches both faces. Between its nodes a cylinder meets a facet at an edge or vertex (:yref:`Ig2_Facet_FlexCylinder_FlexContactGeom`).");
 	// clang-format on
 	FUNCTOR2D(Facet, FlexNode);
 	DEFINE_FUNCTOR_ORDER_2D(Facet, FlexNode);
 };
 REGISTER_SERIALIZABLE(Ig2_Facet_FlexNode_FlexContactGeom);
+
+class Ig2_Facet_FlexCylinder_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
+	{
+		throw std::logic_error("Ig2_Facet_FlexCylinder_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_Facet_FlexCylinder_FlexContactGeom, IGeomFunctor, "YADE :yref:`Facet` - :yref:`FlexCylinder` contact at a facet edge or vertex between the cylinder's nodes (a wire over a ridge or the rim of a surface of facets): where the facet's closest point to the cylinder's axis lies on an edge or vertex, at an interior point of the axis nearer than both nodes (pkg/kernel/Surface.hpp, segmentOnTriangleEdges); the force goes to the two nodes by the shape functions. Over an edge or vertex that several facets share, one of them carries the contact (the deepest; ties: the lower id). Everywhere else the cylinder meets the facet at its nodes (:yref:`Ig2_Facet_FlexNode_FlexContactGeom`), and the contact passes from one to the other at the same overlap.");
+	// clang-format on
+	FUNCTOR2D(Facet, FlexCylinder);
+	DEFINE_FUNCTOR_ORDER_2D(Facet, FlexCylinder);
+};
+REGISTER_SERIALIZABLE(Ig2_Facet_FlexCylinder_FlexContactGeom);
 
 namespace flexa {
 	/// Contact radius of a node: the largest radius of the elements on it that still exist (0:

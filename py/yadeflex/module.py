@@ -293,7 +293,7 @@ class ModuleParams:
         d["_fill_radii"] = [repr(float(x)) for x in fill_radii(self)]
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 17  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill); 16: FlexContactGeom's crossing state saved (a file of an earlier build cannot be read); 17: the structure's nodes meet the container's facets and the slab
+        d["_version"] = 18  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill); 16: FlexContactGeom's crossing state saved (a file of an earlier build cannot be read); 17: the structure's nodes meet the container's facets and the slab; 18: its wires meet the container facets' edges between their nodes
         if self.with_rope():
             d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]

@@ -326,3 +326,35 @@ def block_on_net(clump=False, speed=1.0, contact_young=1e8):
     O.engines = engines(damping=0.0)
     return dict(nodes=[n for col in grid for n in col], cylinders=cyls, block=block, members=list(members),
                 params=dict(clump=clump, speed=speed, contact_young=contact_young))
+
+
+def net_on_ridge(drop=0.005, slope_deg=30.0, cells=5, contact_young=1e8, friction_deg=30.0, damping=0.0):
+    """A free square net (yadeflex.net of (cells + 1)^2 steel nodes 0.1 m apart, wire radius 3 mm,
+    element modulus 2e11 Pa) held flat drop [m] above the ridge of a fixed roof of four YADE Facets
+    and released under gravity. The ridge runs along y at x = 0.5 m, z = 0, between two columns of
+    nodes (cells odd), so that the wires crossing it meet it between their nodes
+    (Ig2_Facet_FlexCylinder_FlexContactGeom); each slope falls at slope_deg [deg] to x = 0 and
+    x = 1 m and is a rectangle of two facets, one of them on the ridge. Materials as in
+    drop_on_surface. Returns dict(nodes, elements, roof (facet ids), ridge_facets, params)."""
+    from yade import utils
+    C.number("drop", drop, C.Range(0.0, unit="m"))
+    C.number("slope_deg", slope_deg, C.Range(0.0, 80.0, lo_open=True, unit="deg"))
+    cells = C.integer("cells", cells, 1, 99)
+    if cells % 2 == 0:
+        raise ValueError(f"cells must be odd (the ridge runs between two columns of nodes), got {cells}")
+    C.number("contact_young", contact_young, MODULUS)
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    args = engine_args(damping=damping)
+    O.reset()
+    roof_mat = FrictMat(young=contact_young, poisson=0.25, density=2500.0, frictionAngle=math.radians(friction_deg), label="roof")
+    O.materials.append(roof_mat)
+    r, spacing = 0.003, 0.1
+    lo = 0.5 - 0.5 * cells * spacing
+    mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
+    grid, elements = B.net(cells + 1, spacing, r, mat, origin=(lo, lo, r + drop), fix_border=False)
+    h = 0.5 * math.tan(math.radians(slope_deg))
+    r0, r1, a0, a1, b0, b1 = (0.5, 0, 0), (0.5, 1, 0), (0, 0, -h), (0, 1, -h), (1, 0, -h), (1, 1, -h)
+    roof = [O.bodies.append(utils.facet(t, fixed=True, material=roof_mat)) for t in ((r0, r1, a1), (r0, a1, a0), (r1, r0, b0), (r1, b0, b1))]
+    O.engines = engines(gravity=args[0], damping=args[1])
+    return dict(nodes=[n for col in grid for n in col], elements=elements, roof=roof, ridge_facets=[roof[0], roof[2]],
+                params=dict(drop=drop, slope_deg=slope_deg, cells=cells, contact_young=contact_young, friction_deg=friction_deg, damping=damping))

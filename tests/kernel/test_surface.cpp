@@ -150,3 +150,109 @@ TEST(Surface, SegmentOverABoxEdgeIsMetBetweenItsNodes)
 	// a wire whose closest point to the edge is a node: the node's contact
 	EXPECT_FALSE(segmentOnBoxEdges(Vec3(1.2, 0, 1.2), Vec3(3, 0, 3), ext).valid);
 }
+
+TEST(Surface, SegmentOverAFacetEdgeIsMetBetweenItsNodes)
+{
+	// the triangle lies in z = 0 on the side x <= 0 of its edge (0, y, 0), y in [0, 2]
+	const Vec3        a(0, 0, 0), b(0, 2, 0), c(-2, 1, 0);
+	const Vec3        x0(-1, 1, 1.5), x1(1.5, 1, -1); // the line x + z = 0.5 in y = 1, nearest the edge at (0, 1, 0)
+	const SegmentEdge e = segmentOnTriangleEdges(x0, x1, a, b, c);
+	ASSERT_TRUE(e.valid);
+	EXPECT_NEAR(e.u, 0.5, 1e-12);
+	expectNear(e.point, Vec3(0, 1, 0));
+	expectNear(e.onSegment, Vec3(0.25, 1, 0.25));
+	expectNear(e.normal, Vec3(1, 0, 1).normalized());
+	EXPECT_NEAR(e.distance, 0.5 / std::sqrt(2.0), 1e-14);
+	EXPECT_EQ(e.support, 3u); // the edge a-b
+	// past a vertex: the vertex alone carries it
+	const SegmentEdge v = segmentOnTriangleEdges(Vec3(0.3, 2.6, 1), Vec3(0.3, 2.6, -1), a, b, c);
+	ASSERT_TRUE(v.valid);
+	expectNear(v.point, b);
+	EXPECT_EQ(v.support, 2u);
+	EXPECT_NEAR(v.distance, std::hypot(0.3, 0.6), 1e-14);
+	// a wire lying over the face (its deepest points are its nodes), or one whose closest point is
+	// a node, or one that crosses the face: no edge contact
+	EXPECT_FALSE(segmentOnTriangleEdges(Vec3(-1.5, 1, 0.3), Vec3(-0.5, 1, 0.2), a, b, c).valid);
+	EXPECT_FALSE(segmentOnTriangleEdges(Vec3(0.2, 1, 0.2), Vec3(2, 1, 2), a, b, c).valid);
+	EXPECT_FALSE(segmentOnTriangleEdges(Vec3(-1, 1, 0.5), Vec3(-0.5, 1, -0.5), a, b, c).valid);
+}
+
+TEST(Surface, WireOverARidgeOfTwoFacetsCarriesOneContact)
+{
+	// a roof: two facets share the ridge (0, y, 0), their vertices stored apart (round-off apart)
+	const double e = 1e-15, r = 0.4;
+	const Vec3   a(0, 0, 0), b(0, 2, 0), c(-2, 1, -1), a2(e, 0, 0), b2(0, 2 + e, 0), d(2, 1, -1);
+	for (double x : { -0.1, 0.0, 0.1 }) {
+		const Vec3        x0(-1 + x, 1, 0.3), x1(1.2 + x, 1, 0.3);
+		const SegmentEdge s0 = segmentOnTriangleEdges(x0, x1, a, b, c), s1 = segmentOnTriangleEdges(x0, x1, a2, b2, d);
+		ASSERT_TRUE(s0.valid && s1.valid);
+		EXPECT_NEAR(s0.distance, 0.3, 1e-14);
+		EXPECT_NEAR(s1.distance, 0.3, 1e-14);
+		FacetHit h[2];
+		const SegmentEdge* s[2] = { &s0, &s1 };
+		const Vec3         v[2][3] = { { a, b, c }, { a2, b2, d } };
+		for (int k = 0; k < 2; ++k) {
+			h[k].id      = 20 + k;
+			h[k].overlap = r - s[k]->distance;
+			h[k].support = s[k]->support;
+			for (int j = 0; j < 3; ++j)
+				h[k].v[j] = v[k][j];
+		}
+		int        beaten[8], nb0 = 0, nb1 = 0;
+		const bool o0 = ownsFacetCluster(h, 2, 0, beaten, nb0), o1 = ownsFacetCluster(h, 2, 1, beaten, nb1);
+		EXPECT_NE(o0, o1) << "one contact at the ridge, x = " << x;
+		EXPECT_EQ(o0 ? nb0 : nb1, 1);
+	}
+}
+
+TEST(Surface, WireOverTheDiagonalOfAFlatSurfaceHasNoEdgeContact)
+{
+	// two coplanar facets sharing the diagonal (0,0,0)-(1,1,0); a tilted wire crossing the diagonal
+	// over the flat square: its deepest point is its lower node, over the first facet's face
+	const Vec3 tri[2][3] = { { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0) }, { Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0) } };
+	const int  ids[2]    = { 1, 2 };
+	const Vec3 x0(0.7, 0.3, 0.02), x1(0.3, 0.7, 0.06); // x0 over the first facet, x1 over the second
+	ASSERT_TRUE(segmentOnTriangleEdges(x0, x1, tri[1][0], tri[1][1], tri[1][2]).valid); // alone, the second facet's edge looks nearest
+	SegmentEdge edge[2];
+	FacetHit    hit[2];
+	segmentOnFacets(x0, x1, 0.1, tri, ids, 2, edge, hit);
+	EXPECT_FALSE(hit[0].overlap > 0);
+	EXPECT_FALSE(hit[1].overlap > 0) << "the first facet's face is nearer to that point";
+}
+
+TEST(Surface, WireOverARidgeOfFourFacetsCarriesOneContact)
+{
+	// a roof of two slopes, each a rectangle of two triangles; the ridge (0.5, y, 0.2) is an edge of
+	// one triangle of each slope
+	const Vec3 r0(0.5, 0, 0.2), r1(0.5, 1, 0.2), a0(0, 0, -0.3), a1(0, 1, -0.3), b0(1, 0, -0.3), b1(1, 1, -0.3);
+	const Vec3 tri[4][3] = { { r0, r1, a1 }, { r0, a1, a0 }, { r1, r0, b0 }, { r1, b0, b1 } };
+	const int  ids[4]    = { 5, 6, 7, 8 };
+	SegmentEdge edge[4];
+	FacetHit    hit[4];
+	for (double y : { 0.2, 0.5, 0.9 }) { // a wire across the ridge, 5 mm above it, its nodes high over both slopes
+		segmentOnFacets(Vec3(0.45, y, 0.205), Vec3(0.56, y, 0.205), 0.01, tri, ids, 4, edge, hit);
+		int owners = 0, beaten[8], nb = 0;
+		for (int k = 0; k < 4; ++k)
+			if (hit[k].overlap > 0 && ownsFacetCluster(hit, 4, k, beaten, nb)) {
+				++owners;
+				EXPECT_NEAR(edge[k].distance, 0.005, 1e-12);
+				expectNear(edge[k].point, Vec3(0.5, y, 0.2));
+			}
+		EXPECT_EQ(owners, 1) << "y = " << y;
+	}
+}
+
+TEST(Surface, WireFromANodeOnASharedDiagonalHasNoEdgeContact)
+{
+	// found on a net at rest on two facets: a wire from a node on their shared diagonal, over the
+	// first facet, its far node 1e-7 m lower; alone, the second facet's diagonal looks nearest a
+	// round-off away from the node (that node's own contact carries it)
+	const Vec3 tri[2][3] = { { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0) }, { Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0) } };
+	const int  ids[2]    = { 1, 2 };
+	const Vec3 x0(0.4, 0.4, 0.003), x1(0.5, 0.4, 0.003 - 1e-7);
+	SegmentEdge edge[2];
+	FacetHit    hit[2];
+	segmentOnFacets(x0, x1, 0.003 + 1e-6, tri, ids, 2, edge, hit);
+	EXPECT_FALSE(hit[0].overlap > 0);
+	EXPECT_FALSE(hit[1].overlap > 0);
+}

@@ -175,3 +175,57 @@ def test_block_smaller_than_a_cell_is_caught_by_the_wires(scene, clump):
     assert edges >= 2, "the wires did not meet the block at its edges"
     assert lowest - 0.03 > -0.01, f"the block's underside reached z = {lowest - 0.03:.4f} m"
     assert worst <= 0.01 * ke, f"energy residual {worst:.2e} J = {100 * worst / ke:.2f}% of the impact energy {ke:.3f} J"
+
+
+def _below_ridge(s):
+    """How far the axis of a wire crossing the ridge (x = 0.5 m, z = 0) passes below it [m] (0:
+    none does), at the crossing."""
+    worst = 0.0
+    for e in s["elements"]:
+        a, b = (O.bodies[n].state.pos for n in (O.bodies[e].shape.node1, O.bodies[e].shape.node2))
+        if (a[0] - 0.5) * (b[0] - 0.5) < 0:
+            t = (0.5 - a[0]) / (b[0] - a[0])
+            worst = max(worst, -(a[2] + t * (b[2] - a[2])))
+    return worst
+
+
+def _ridge_contacts(s):
+    cyl = set(s["elements"])
+    return [i for i in O.interactions if i.isReal and i.geom.active and i.id1 in s["roof"] and i.id2 in cyl]
+
+
+# A net dropped on the sharp ridge of a roof of facets that runs between two columns of its nodes:
+# the wires crossing the ridge meet it between their nodes, one contact each (the ridge is an edge
+# of two facets), and hold the net on it (node contacts alone let the ridge pass through the net:
+# its nodes first touch the slopes 29 mm below the ridge). Undamped, the energy balance closes to
+# 1% of the gravity work done on the net at every step; damped, the net comes to rest on the ridge
+# and the roof carries its weight.
+def test_wires_meet_a_ridge_of_facets_between_their_nodes(scene):
+    s = scenes.net_on_ridge(drop=0.005)
+    O.trackEnergy = True
+    yf.step_until(math.inf, 1)
+    tot0 = O.energy.total()
+    crossing = 6  # (cells + 1) wires cross the ridge
+    worst, deepest, most = 0.0, 0.0, 0
+    while O.time < 0.08:
+        yf.step_until(math.inf, 1)
+        worst = max(worst, abs(O.energy.total() - tot0))
+        deepest = max(deepest, _below_ridge(s))
+        on = _ridge_contacts(s)
+        most = max(most, len(on))
+        assert len({i.id2 for i in on}) == len(on), "a wire carries two contacts with the ridge"
+    work = -O.energy["gravWork"]
+    assert most == crossing, f"{most} wires met the ridge, {crossing} cross it"
+    assert deepest < 0.003, f"a wire's axis passed {1000 * deepest:.1f} mm below the ridge (wire radius 3 mm)"
+    assert work > 0 and worst <= 0.01 * work, f"energy residual {worst:.2e} J = {100 * worst / work:.2f}% of the gravity work {work:.2e} J"
+
+
+def test_a_net_rests_on_a_ridge_of_facets(scene):
+    s = scenes.net_on_ridge(drop=0.002, damping=0.6)
+    yf.step_until(0.4, 10 ** 6)
+    speed = max(O.bodies[n].state.vel.norm() for n in s["nodes"])
+    assert speed < 1e-3, f"not at rest: {speed:.2e} m/s"
+    weight = sum(O.bodies[n].state.mass for n in s["nodes"]) * 9.81
+    assert sum(O.forces.f(f)[2] for f in s["roof"]) == pytest.approx(-weight, rel=0.01)
+    assert len(_ridge_contacts(s)) == 6
+    assert _below_ridge(s) < 0.003
