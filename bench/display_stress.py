@@ -89,7 +89,7 @@ def main():
         w = csv.writer(f)
         if new:
             w.writerow(["machine", "setting", "renders", "at_once", "busy_loops", "failures"])
-        w.writerow([machine_line(), setting, a.renders, a.at_once, a.busy, len(failed)])
+        w.writerow([machine_line().strip(), setting, a.renders, a.at_once, a.busy, len(failed)])
 
 
 if __name__ == "__main__":
