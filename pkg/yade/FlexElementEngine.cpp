@@ -8,6 +8,7 @@
 #include "FlexWire.hpp"
 
 #include <kernel/Hook.hpp>
+#include <kernel/Onset.hpp>
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -122,6 +123,23 @@ namespace {
 				if (anyMoment) scene->forces.addTorque(slotNode[i], accM[i]);
 			}
 		}
+	}
+
+	// Energy held by a body's yade-flex contacts that carried a force this step: their normal and
+	// shear springs (as the law books them in flexContactElastic)
+	Real contactEnergyOf(const Body& b)
+	{
+		Real held = 0;
+		for (const auto& kv : b.intrs) {
+			const Interaction& I = *kv.second;
+			if (!I.isReal()) continue;
+			const auto* g = dynamic_cast<const FlexContactGeom*>(I.geom.get());
+			const auto* p = dynamic_cast<const FrictPhys*>(I.phys.get());
+			if (!g || !p || !g->active) continue;
+			held += flex::normalSpring(p->kn, g->penetrationDepth, g->plasticOverlap, g->pierced).energy;
+			if (p->ks > 0) held += 0.5 * p->shearForce.squaredNorm() / p->ks;
+		}
+		return held;
 	}
 
 	// The collider pairs of bonded neighbours the Ig2s reported this step, erased (FlexProtocol.hpp)
@@ -316,7 +334,16 @@ void FlexElementEngine::action()
 	for (Body::id_t id : broken) {
 		const flexa::Element e = flexa::elementOf(scene, id);
 		// the element's stored energy is released at rupture (elastic waves we do not resolve)
-		if (energy) flexa::addEnergy(scene, e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
+		if (energy) {
+			flexa::addEnergy(scene, e.cyl ? e.cyl->elasticEnergy : e.fac->elasticEnergy, "flexRupture", ruptIx, false);
+			// so does the energy held by the contacts that go with it (their springs were booked in
+			// flexContactElastic this step: moved, so that the step's balance counts them once)
+			const Real held = contactEnergyOf(*(*scene->bodies)[id]);
+			if (held != 0) {
+				flexa::addEnergy(scene, held, "flexRupture", ruptIx, false);
+				flexa::addEnergy(scene, -held, "flexContactElastic", contactIx, true);
+			}
+		}
 		if (e.cyl) releaseHooks(*e.cyl, energy);
 		for (int k = 0; k < e.nNodes; ++k) {
 			const int nid = e.nodes[k];

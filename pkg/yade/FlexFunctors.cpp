@@ -7,6 +7,7 @@
 #include <kernel/Contact.hpp>
 #include <kernel/Crossing.hpp>
 #include <kernel/Crushing.hpp>
+#include <kernel/Onset.hpp>
 #include <kernel/Triangle.hpp>
 
 #include <lib/factory/ClassFactory.hpp>
@@ -292,6 +293,7 @@ namespace {
 			Real dist;
 			g.normal           = facetNormal(fn, st.t, st.p1, 0.5 * (a0->pos + a1->pos), isNew, g.normal, dist);
 			g.penetrationDepth = c.radius + fa.radius - dist;
+			g.pierced          = st.intersect; // (see FlexContactGeom.pierced)
 			g.refR1            = c.radius;
 			g.refR2            = fa.radius;
 			g.contactPoint     = st.p1 + (c.radius - 0.5 * g.penetrationDepth) * g.normal;
@@ -462,7 +464,7 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 			if (kr > 0) flexa::addEnergy(scene, 0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
 		}
 		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) // ended while overlapping (see deepEndings)
-			tally(deepEndings, deepEndingEnergy, 0.5 * p.kn * g.penetrationDepth * g.penetrationDepth);
+			tally(deepEndings, deepEndingEnergy, flex::normalSpring(p.kn, g.penetrationDepth, g.plasticOverlap, g.pierced).energy);
 		// separated (not handed over): the crossing correction runs on for two steps, its force
 		// on the bodies only (the interaction's own data stay as they were, for the neighbours)
 		bool crossingOn = false;
@@ -478,20 +480,29 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		return g.lastActiveIter >= scene->iter - 1 || crossingOn;
 	}
 	if (g.handover && track) flexa::addEnergy(scene, -0.5 * g.handoverShear.squaredNorm() / p.ks, "flexFriction", frictIx, false);
+	// a contact with an element (re)starting deep takes over its predecessor's spring and no more
+	// (kernel/Onset.hpp; the offset is plasticOverlap); with no predecessor (a contact held back by
+	// a cluster's ownership that now stands alone, one found late) it starts unloaded. A contact
+	// that starts from a gap, or one of the scene as built (its first step), starts with none.
+	const bool element = g.nodes1[0] >= 0 || g.nodes2[0] >= 0 || g.tri1[0] >= 0 || g.tri2[0] >= 0;
+	if (g.handover && element) g.plasticOverlap = 0;
 	if (g.onsetDepth > 0) {
 		const Real approach = std::max(Real(0), -g.normal.dot(g.relVel)) * scene->dt;
-		if (g.onsetDepth > onsetFactor * approach)
-			tally(deepOnsets, deepOnsetEnergy, 0.5 * p.kn * g.onsetDepth * g.onsetDepth);
-		else
+		if (g.onsetDepth > onsetFactor * approach) {
+			if (element && g.handoverNormal >= 0) g.plasticOverlap = flex::onsetOffset(p.kn, g.onsetDepth, g.handoverNormal);
+			tally(deepOnsets, deepOnsetEnergy, flex::normalSpring(p.kn, g.onsetDepth, g.plasticOverlap, false).energy);
+		} else
 			g.onsetDepth = 0; // a normal onset
 	}
+	if (element) g.plasticOverlap = flex::shrinkOffset(g.plasticOverlap, g.penetrationDepth);
 	const Real reach = g.refR1 + g.refR2;
 	if (reach > 0) noteOverlap(g.penetrationDepth / reach, I);
 	const Vector3r&               n     = g.normal;
 	const Vector3r                shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
 	const flex::FrictionalContact fc { p.kn, p.ks, p.tangensOfFrictionAngle };
-	Real                          Fn = p.kn * g.penetrationDepth, crushWork = 0;
+	const flex::NormalSpring      spring = flex::normalSpring(p.kn, g.penetrationDepth, element ? g.plasticOverlap : 0, g.pierced);
+	Real                          Fn     = spring.force, crushWork = 0;
 	if (crushingIs50 > 0 && g.nodes1[0] < 0 && g.nodes2[0] < 0 && g.tri1[0] < 0 && g.tri2[0] < 0) { // two spheres
 		const Real              limit = flex::pointLoadFailure(2 * std::min(g.refR1, g.refR2), crushingIs50);
 		const flex::NormalYield y     = flex::yieldingNormalStep(p.kn, limit, g.penetrationDepth, g.plasticOverlap, p.normalForce.norm());
@@ -504,7 +515,7 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	p.shearForce                    = r.shearForce;
 	// the crossing correction (a linear spring only: not a crushed sphere pair); not part of the
 	// normal force the friction and the outputs see
-	const Real              cross   = (crossing && crushWork == 0 && g.plasticOverlap == 0) ? crossingStep(scene, g, p.kn, I) : 0;
+	const Real              cross   = (crossing && crushWork == 0 && g.plasticOverlap == 0 && !g.pierced) ? crossingStep(scene, g, p.kn, I) : 0;
 	const Vector3r          F       = r.normalForce + r.shearForce + cross * n; // on side 2
 	const flexa::ForceSink* sink    = flexa::currentSink();         // (set by FlexInteractionLoop on several threads)
 	flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -F);
@@ -528,7 +539,8 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		if (scene->trackEnergy && rs.dissipated != 0) flexa::addEnergy(scene, rs.dissipated, "flexRolling", rollIx, false);
 	}
 	if (scene->trackEnergy) {
-		flexa::addEnergy(scene, r.elasticEnergy + rollEnergy, "flexContactElastic", elastIx, /*reset every step*/ true);
+		const Real held = g.pierced ? spring.energy : 0; // (pierced: the spring's energy, without a force)
+		flexa::addEnergy(scene, r.elasticEnergy + rollEnergy + held, "flexContactElastic", elastIx, /*reset every step*/ true);
 		flexa::addEnergy(scene, r.frictionWork, "flexFriction", frictIx, false);
 		if (crushWork != 0) flexa::addEnergy(scene, crushWork, "flexCrushing", crushIx, false);
 	}

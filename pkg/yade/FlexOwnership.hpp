@@ -44,7 +44,7 @@ namespace flexa {
 
 	/// Shear force (on body 2 of I) that one of the `beaten` pairs (A-side id, B-side id; see
 	/// ownsPair) carried at the previous step; aIs1: whether I's body 1 is its A-side element.
-	inline bool takeOverPairShear(Scene* scene, bool aIs1, const std::pair<Body::id_t, Body::id_t>* beaten, int nBeaten, Vector3r& shear)
+	inline bool takeOverPairShear(Scene* scene, bool aIs1, const std::pair<Body::id_t, Body::id_t>* beaten, int nBeaten, Vector3r& shear, Real& normal)
 	{
 		for (int k = 0; k < nBeaten; ++k) {
 			const shared_ptr<Interaction> J = scene->interactions->find(beaten[k].first, beaten[k].second);
@@ -55,6 +55,7 @@ namespace flexa {
 			if (!jg || !jp || jg->lastActiveIter != scene->iter - 1) continue;
 			const bool same = (J->getId1() == beaten[k].first) == aIs1;
 			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
+			normal          = jp->normalForce.norm();
 			return true;
 		}
 		return false;
@@ -62,7 +63,7 @@ namespace flexa {
 	/// Shear force (on body 2 of I) that the interaction between `otherBody` and one of the
 	/// `beaten` neighbours carried at the previous step, expressed for an interaction whose body 1
 	/// is id1. Only reads data its owner does not write this step (see Flex.hpp).
-	inline bool takeOverShear(Scene* scene, Body::id_t otherBody, Body::id_t id1, const Body::id_t* beaten, int nBeaten, Vector3r& shear)
+	inline bool takeOverShear(Scene* scene, Body::id_t otherBody, Body::id_t id1, const Body::id_t* beaten, int nBeaten, Vector3r& shear, Real& normal)
 	{
 		for (int k = 0; k < nBeaten; ++k) {
 			const shared_ptr<Interaction> J = scene->interactions->find(otherBody, beaten[k]);
@@ -74,6 +75,7 @@ namespace flexa {
 			// shear is stored as the force on body 2: flip it if the other body sits on opposite sides
 			const bool same = (J->getId1() == otherBody) == (id1 == otherBody);
 			shear           = same ? jp->shearForce : Vector3r(-jp->shearForce);
+			normal          = jp->normalForce.norm();
 			return true;
 		}
 		return false;
@@ -95,13 +97,18 @@ namespace flexa {
 			// a contact (re)starting: it takes over the shear of the neighbour that carried it
 			// last step, or starts from zero (separation ends the shear history; never reuse a
 			// stale spring, which would bring back energy that was no longer booked)
-			Vector3r sh = Vector3r::Zero();
+			Vector3r sh    = Vector3r::Zero();
+			Real     fn    = 0;
+			bool     found = false;
 			if (nPairs)
-				flexa::takeOverPairShear(scene, true, pairs, nPairs, sh);
+				found = flexa::takeOverPairShear(scene, true, pairs, nPairs, sh, fn);
 			else if (nb)
-				flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh);
+				found = flexa::takeOverShear(scene, otherBody, I->getId1(), beaten, nb, sh, fn);
 			g.handover      = true;
 			g.handoverShear = sh;
+			// -1: a contact of the scene as built (its first step) with no neighbour handing it
+			// over: its overlap is taken as it is (see Law2_FlexContactGeom_FrictPhys_CundallStrack)
+			g.handoverNormal = found || scene->iter > 0 ? fn : -1;
 			g.onsetDepth    = g.penetrationDepth; // judged by the law (Law2_FlexContactGeom_FrictPhys_CundallStrack.onsetFactor)
 		}
 		g.lastActiveIter = scene->iter;
