@@ -303,7 +303,13 @@ def test_vtk_contacts_parts_and_clumps(scene, tmp_path):
         u = np.dot(c - pts[2 * k], seg) / np.dot(seg, seg)
         assert -1e-9 < u < 1 + 1e-9 and np.linalg.norm(pts[2 * k] + u * seg - c) < 1e-9
         kinds[tuple(sorted((i.id1, i.id2)))] = int(_cd(g, "kind")[k])
-    assert min(_cd(g, "fn")) > 1.0  # they press on each other: the forces are not zeros
+    # they press on each other: the forces are not zeros, except on a contact that started unloaded
+    # (the sphere on the chain's middle node, as the chain bends under it, touches the second
+    # segment beside the first: a new contact at the first one's overlap, which takes no force
+    # until it goes deeper; see FlexContactGeom.plasticOverlap)
+    for k, i in enumerate(inters):
+        if getattr(i.geom, "plasticOverlap", 0.0) < i.geom.penetrationDepth:
+            assert _cd(g, "fn")[k] > 1.0, (i.id1, i.id2)
     names = {P.contact_kind_name(k) for k in kinds.values()}
     assert names == {"mesh-grain", "grain-grain", "grain-boulder"}, names
     assert kinds[(sc["a"], sc["b"])] == 66
