@@ -22,7 +22,6 @@
 # reduced module). Prints a table; appends rows to bench/results/contact_audit.csv.
 import argparse
 import collections
-import csv
 import os
 import sys
 
@@ -30,6 +29,7 @@ BENCH = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswit
 sys.path.insert(0, BENCH)
 sys.path.insert(0, os.path.join(os.path.dirname(BENCH), "py"))
 
+import tearing_scene  # noqa: E402
 from machine import machine_line  # noqa: E402
 
 BANDS = ((0.0, 0.5, "below 0.5"), (0.5, 1.0 - 1e-9, "0.5 to 1"), (1.0 - 1e-9, 1.0 + 1e-9, "1 (axis on the midplane)"), (1.0 + 1e-9, float("inf"), "above 1"))
@@ -43,30 +43,13 @@ def band(ratio):
 def main():
     me = next((k for k, a in enumerate(sys.argv) if a.endswith("contact_audit.py")), 0)
     ap = argparse.ArgumentParser()
-    ap.add_argument("--velocity", type=float, default=11.0, help="impact speed [m/s]")
-    ap.add_argument("--mass", type=float, default=300.0, help="boulder mass [kg]")
-    ap.add_argument("--t-end", type=float, default=0.03, help="time audited from the first contact [s]")
-    ap.add_argument("--frictionless", action="store_true", help="every friction angle 0 (the audit then covers the whole force)")
-    ap.add_argument("--label", default="current")
-    ap.add_argument("--out", default=os.path.join(BENCH, "results", "contact_audit.csv"))
+    tearing_scene.add_options(ap, 11.0, os.path.join(BENCH, "results", "contact_audit.csv"))
     a = ap.parse_args(sys.argv[me + 1:])
     from yade import O
-    from yadeflex.module import ModuleParams, impact_start
-    p = ModuleParams.small()
-    p.boulder_mass, p.impact_velocity, p.lining_node_mass = a.mass, a.velocity, 0.0
-    p.validate()
-    _, bid, _ = impact_start(p)
-    if a.frictionless:
-        for m in O.materials:
-            if hasattr(m, "frictionAngle"):
-                m.frictionAngle = 0.0
-        for i in O.interactions:
-            if i.phys is not None and hasattr(i.phys, "tangensOfFrictionAngle"):
-                i.phys.tangensOfFrictionAngle = 0.0
+    kind = tearing_scene.start(a)
     O.trackEnergy = True
     O.energy.clear()
     O.step()  # (the balance from this step on, as the main job's)
-    kind = {b.id: type(b.shape).__name__ for b in O.bodies if b is not None}
 
     def carried():
         """{(id1, id2): (normal force on side 2, spring energy, overlap ratio)} of the contacts carrying a force now."""
@@ -124,13 +107,7 @@ def main():
                          step_contacts=count[row], energy_J=round(energy[row], 3)))
     rows.append(dict(label=a.label, velocity_m_s=a.velocity, frictionless=int(a.frictionless), cls="(all)", band="(all)",
                      event="energy residual of the run", step_contacts=0, energy_J=round(residual, 3)))
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    new = not os.path.exists(a.out)
-    with open(a.out, "a", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=COLS)
-        if new:
-            w.writeheader()
-        w.writerows(rows)
+    tearing_scene.append_rows(a.out, COLS, rows)
     with open(os.path.splitext(a.out)[0] + "_machine.txt", "w") as f:
         f.write(machine_line() + "\n")
 

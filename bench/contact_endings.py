@@ -13,12 +13,14 @@
 # appends rows to bench/results/contact_endings.csv.
 import argparse
 import collections
-import csv
 import os
 import sys
 
 BENCH = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("contact_endings.py")), os.path.join(os.getcwd(), "bench"))
+sys.path.insert(0, BENCH)
 sys.path.insert(0, os.path.join(os.path.dirname(BENCH), "py"))
+
+import tearing_scene  # noqa: E402
 
 COLS = ("label", "velocity_m_s", "frictionless", "cls", "ending", "count", "energy_J")
 
@@ -26,26 +28,10 @@ COLS = ("label", "velocity_m_s", "frictionless", "cls", "ending", "count", "ener
 def main():
     me = next((k for k, a in enumerate(sys.argv) if a.endswith("contact_endings.py")), 0)
     ap = argparse.ArgumentParser()
-    ap.add_argument("--velocity", type=float, default=10.5, help="impact speed [m/s]")
-    ap.add_argument("--t-end", type=float, default=0.03, help="time scanned from the first contact [s]")
-    ap.add_argument("--frictionless", action="store_true", help="every friction angle 0")
-    ap.add_argument("--label", default="current")
-    ap.add_argument("--out", default=os.path.join(BENCH, "results", "contact_endings.csv"))
+    tearing_scene.add_options(ap, 10.5, os.path.join(BENCH, "results", "contact_endings.csv"))
     a = ap.parse_args(sys.argv[me + 1:])
     from yade import O
-    from yadeflex.module import ModuleParams, impact_start
-    p = ModuleParams.small()
-    p.boulder_mass, p.impact_velocity, p.lining_node_mass = 300.0, a.velocity, 0.0
-    p.validate()
-    impact_start(p)
-    if a.frictionless:
-        for m in O.materials:
-            if hasattr(m, "frictionAngle"):
-                m.frictionAngle = 0.0
-        for i in O.interactions:
-            if i.phys is not None and hasattr(i.phys, "tangensOfFrictionAngle"):
-                i.phys.tangensOfFrictionAngle = 0.0
-    kind = {b.id: type(b.shape).__name__ for b in O.bodies if b is not None}
+    kind = tearing_scene.start(a)
 
     def nodes(b):
         s = O.bodies[b].shape if O.bodies[b] is not None else None
@@ -96,7 +82,7 @@ def main():
             energy[row] += U
             count[row] += 1
         prev = now
-    print(f"\ncontacts that ended overlapping ({a.label}): 300 kg at {a.velocity:g} m/s on the reduced module, lining at its own mass"
+    print(f"\ncontacts that ended overlapping ({a.label}): {a.mass:g} kg at {a.velocity:g} m/s on the reduced module, lining at its own mass"
           f"{', frictionless' if a.frictionless else ''}, {1e3 * a.t_end:g} ms")
     print(f"{'class':28s} {'ending':38s} {'count':>7s} {'energy J':>10s}")
     rows = []
@@ -104,14 +90,7 @@ def main():
         print(f"{row[0]:28s} {row[1]:38s} {count[row]:7d} {energy[row]:10.1f}")
         rows.append(dict(label=a.label, velocity_m_s=a.velocity, frictionless=int(a.frictionless), cls=row[0], ending=row[1],
                          count=count[row], energy_J=round(energy[row], 3)))
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    new = not os.path.exists(a.out)
-    with open(a.out, "a", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=COLS)
-        if new:
-            w.writeheader()
-        w.writerows(rows)
-
+    tearing_scene.append_rows(a.out, COLS, rows)
 
 if __name__ == "__main__":
     main()
