@@ -20,7 +20,6 @@
 # is the friction's); --frictionless sets every friction angle to 0 so that the audit covers the
 # whole contact force. The scan runs in Python over all interactions (a few ms per step on the
 # reduced module). Prints a table; appends rows to bench/results/contact_audit.csv.
-import argparse
 import collections
 import os
 import sys
@@ -41,10 +40,7 @@ def band(ratio):
 
 
 def main():
-    me = next((k for k, a in enumerate(sys.argv) if a.endswith("contact_audit.py")), 0)
-    ap = argparse.ArgumentParser()
-    tearing_scene.add_options(ap, 11.0, os.path.join(BENCH, "results", "contact_audit.csv"))
-    a = ap.parse_args(sys.argv[me + 1:])
+    a = tearing_scene.options("contact_audit.py", 11.0, os.path.join(BENCH, "results", "contact_audit.csv"))
     from yade import O
     kind = tearing_scene.start(a)
     O.trackEnergy = True

@@ -11,7 +11,6 @@
 # already carrying before (two contacts merged into one: this spring's energy is lost), none, or
 # the element broke (erased). Sums the springs' energy per class and kind. Prints a table;
 # appends rows to bench/results/contact_endings.csv.
-import argparse
 import collections
 import os
 import sys
@@ -26,10 +25,7 @@ COLS = ("label", "velocity_m_s", "frictionless", "cls", "ending", "count", "ener
 
 
 def main():
-    me = next((k for k, a in enumerate(sys.argv) if a.endswith("contact_endings.py")), 0)
-    ap = argparse.ArgumentParser()
-    tearing_scene.add_options(ap, 10.5, os.path.join(BENCH, "results", "contact_endings.csv"))
-    a = ap.parse_args(sys.argv[me + 1:])
+    a = tearing_scene.options("contact_endings.py", 10.5, os.path.join(BENCH, "results", "contact_endings.csv"))
     from yade import O
     kind = tearing_scene.start(a)
 

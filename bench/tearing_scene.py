@@ -4,6 +4,16 @@
 import os
 
 
+def options(script, velocity, out):
+    """The options of the benchmark `script` (its file name) from the command line after it."""
+    import argparse
+    import sys
+    me = next((k for k, a in enumerate(sys.argv) if a.endswith(script)), 0)
+    ap = argparse.ArgumentParser()
+    add_options(ap, velocity, out)
+    return ap.parse_args(sys.argv[me + 1:])
+
+
 def add_options(ap, velocity, out):
     """The options both benchmarks take; out: the CSV's default path."""
     ap.add_argument("--velocity", type=float, default=velocity, help="impact speed [m/s]")
