@@ -68,12 +68,14 @@ inline Hit segmentHit(const ElementNodes& e, const PointSegment& ps, double over
 	h.overlap = overlap;
 	return h;
 }
+/// (A point of the face region with a zero weight lies on that edge: its support is the edge's
+/// nodes, so that the two facets sharing the edge link whichever region each found it in.)
 inline Hit triangleHit(const ElementNodes& e, const PointTriangle& pt, double overlap)
 {
 	Hit h;
 	h.point = pt.point;
 	for (int k = 0; k < 3; ++k)
-		if (pt.support & (1u << k)) h.support[h.nSupport++] = e.nodes[k];
+		if ((pt.support & (1u << k)) && (pt.support != 7 || pt.w[k] > 1e-12)) h.support[h.nSupport++] = e.nodes[k];
 	h.overlap = overlap;
 	return h;
 }

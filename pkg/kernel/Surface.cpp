@@ -126,31 +126,144 @@ SegmentEdge segmentOnTriangleEdges(const Vec3& x0, const Vec3& x1, const Vec3& a
 	return best;
 }
 
-void segmentOnFacets(const Vec3& x0, const Vec3& x1, double r, const Vec3 (*tri)[3], const int* ids, int n, SegmentEdge* edge, FacetHit* hit)
-{
-	for (int k = 0; k < n; ++k) {
-		edge[k]        = segmentOnTriangleEdges(x0, x1, tri[k][0], tri[k][1], tri[k][2]);
-		hit[k].id      = ids[k];
-		hit[k].support = edge[k].support;
-		hit[k].overlap = edge[k].valid ? r - edge[k].distance : -1;
-		for (int j = 0; j < 3; ++j)
-			hit[k].v[j] = tri[k][j];
-	}
-	// another facet as near to the segment's point, at another point of the surface (its face, or
-	// an edge the two do not share): the surface's closest point is not this edge. At an edge or
-	// vertex two facets share, both reach the same point: the cluster carries it once.
-	for (int k = 0; k < n; ++k) {
-		if (!(hit[k].overlap > 0)) continue;
-		const double tol = kNodeTie * std::max({ (tri[k][1] - tri[k][0]).norm(), (tri[k][2] - tri[k][1]).norm(), (tri[k][0] - tri[k][2]).norm() });
-		for (int j = 0; j < n; ++j) {
-			if (j == k) continue;
-			const SurfacePoint o = nodeOnTriangle(edge[k].onSegment, tri[j][0], tri[j][1], tri[j][2], 0);
-			if (std::abs(o.distance) <= edge[k].distance + tol && (o.point - edge[k].point).norm() > tol) {
-				hit[k].overlap = -1;
-				break;
+namespace {
+	// A contact found on facet k at elementPoint(k) -> surface point edgePoint(k), distance(k): where
+	// another facet is as near to that point at another point of the surface (its face, or an edge
+	// the two do not share), the surface's closest point is not this edge: hit[k] drops out. At an
+	// edge or vertex two facets share both reach the same point: the cluster carries it once.
+	template <class ElementPoint, class EdgePoint, class Distance>
+	void dropHiddenEdges(const Vec3 (*tri)[3], int n, FacetHit* hit, ElementPoint elementPoint, EdgePoint edgePoint, Distance distance)
+	{
+		for (int k = 0; k < n; ++k) {
+			if (!(hit[k].overlap > 0)) continue;
+			const double tol = kNodeTie * std::max({ (tri[k][1] - tri[k][0]).norm(), (tri[k][2] - tri[k][1]).norm(), (tri[k][0] - tri[k][2]).norm() });
+			for (int j = 0; j < n; ++j) {
+				if (j == k) continue;
+				const SurfacePoint o = nodeOnTriangle(elementPoint(k), tri[j][0], tri[j][1], tri[j][2], 0);
+				if (std::abs(o.distance) <= distance(k) + tol && (o.point - edgePoint(k)).norm() > tol) {
+					hit[k].overlap = -1;
+					break;
+				}
 			}
 		}
 	}
+	void setHit(FacetHit& h, int id, bool valid, double overlap, unsigned support, const Vec3* v)
+	{
+		h.id      = id;
+		h.support = support;
+		h.overlap = valid ? overlap : -1;
+		for (int j = 0; j < 3; ++j)
+			h.v[j] = v[j];
+	}
+} // namespace
+
+void segmentOnFacets(const Vec3& x0, const Vec3& x1, double r, const Vec3 (*tri)[3], const int* ids, int n, SegmentEdge* edge, FacetHit* hit)
+{
+	for (int k = 0; k < n; ++k) {
+		edge[k] = segmentOnTriangleEdges(x0, x1, tri[k][0], tri[k][1], tri[k][2]);
+		setHit(hit[k], ids[k], edge[k].valid, r - edge[k].distance, edge[k].support, tri[k]);
+	}
+	dropHiddenEdges(
+	        tri, n, hit, [&](int k) { return edge[k].onSegment; }, [&](int k) { return edge[k].point; }, [&](int k) { return edge[k].distance; });
+}
+
+namespace {
+	// The surface's edges (nEdges segments) against the membrane (x0, x1, x2); at(p): the surface's
+	// closest point to p; onRim(sp): whether that point lies on an edge or vertex (not a face);
+	// nodeDist: the nodes' distances from the surface. The contact is the surface's closest point
+	// to the membrane's point nearest an edge: an edge nearly parallel to the membrane fixes that
+	// point along the edge only to round-off over the curvature (1e-9 m over a 0.1 m facet, for a
+	// sheet 1 mm over a ridge), so the surface point is recomputed from the membrane's.
+	template <class At, class OnRim>
+	TriangleEdge edgesOnTriangle(const Vec3 (*edges)[2], int nEdges, const Vec3& x0, const Vec3& x1, const Vec3& x2, At at, OnRim onRim, const double nodeDist[3],
+	        double size)
+	{
+		TriangleEdge best;
+		const double len  = std::max({ (x1 - x0).norm(), (x2 - x1).norm(), (x0 - x2).norm() });
+		const double near = kNodeTie * (size + len);
+		for (int k = 0; k < nEdges; ++k) {
+			SegmentTriangle st = closestPointsSegmentTriangle(edges[k][0], edges[k][1], x0, x1, x2);
+			// the membrane's support from the weights: a point on an edge of the membrane found
+			// through its face region has a round-off weight for the third node (the ownership
+			// among the membrane's facets links two facets by what their points share)
+			st.t.support = 0;
+			for (int j = 0; j < 3; ++j)
+				if (st.t.w[j] > 1e-12) st.t.support |= 1u << j;
+			if (st.intersect) { // through the midplane: nothing is nearer
+				best            = TriangleEdge();
+				best.valid      = true;
+				best.pierced    = true;
+				best.onTriangle = best.point = st.t.point;
+				best.triSupport              = st.t.support;
+				for (int j = 0; j < 3; ++j)
+					best.w[j] = st.t.w[j];
+				best.support = at(st.p1).support;
+				return best;
+			}
+			const unsigned ms = st.t.support;
+			if (((ms & 1) + ((ms >> 1) & 1) + ((ms >> 2) & 1)) < 2) continue; // a node: its own contact
+			const SurfacePoint sp = at(st.t.point);
+			if (!(sp.distance > 0) || !onRim(sp)) continue; // inside, or a face is nearer
+			if (!(sp.distance < nodeDist[0] - near && sp.distance < nodeDist[1] - near && sp.distance < nodeDist[2] - near)) continue;
+			if (best.valid && best.distance <= sp.distance) continue;
+			best.valid      = true;
+			best.onTriangle = st.t.point;
+			best.triSupport = ms;
+			for (int j = 0; j < 3; ++j)
+				best.w[j] = st.t.w[j];
+			best.point    = sp.point;
+			best.normal   = sp.normal;
+			best.distance = sp.distance;
+			best.support  = sp.support;
+		}
+		return best;
+	}
+} // namespace
+
+TriangleEdge boxEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext)
+{
+	Vec3 edges[12][2];
+	int  m = 0;
+	for (int axis = 0; axis < 3; ++axis) // the 4 edges along each axis
+		for (int k = 0; k < 4; ++k) {
+			Vec3      a = ext;
+			const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+			a[i]        = (k & 1) ? ext[i] : -ext[i];
+			a[j]        = (k & 2) ? ext[j] : -ext[j];
+			a[axis]     = -ext[axis];
+			Vec3 b      = a;
+			b[axis]     = ext[axis];
+			edges[m][0] = a;
+			edges[m++][1] = b;
+		}
+	const double d[3] = { nodeOnBox(x0, ext).distance, nodeOnBox(x1, ext).distance, nodeOnBox(x2, ext).distance };
+	const auto onRim = [&](const SurfacePoint& sp) { // two or three coordinates on the box's extent
+		int n = 0;
+		for (int a = 0; a < 3; ++a)
+			n += std::abs(sp.point[a]) == ext[a] ? 1 : 0;
+		return n >= 2;
+	};
+	return edgesOnTriangle(edges, 12, x0, x1, x2, [&](const Vec3& p) { return nodeOnBox(p, ext); }, onRim, d, ext.norm());
+}
+
+TriangleEdge triangleEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+	const Vec3   edges[3][2] = { { a, b }, { b, c }, { c, a } };
+	const double d[3]        = { std::abs(nodeOnTriangle(x0, a, b, c, 0).distance), std::abs(nodeOnTriangle(x1, a, b, c, 0).distance),
+                std::abs(nodeOnTriangle(x2, a, b, c, 0).distance) };
+	const double size        = std::max({ (b - a).norm(), (c - b).norm(), (a - c).norm() }) + a.norm();
+	return edgesOnTriangle(
+	        edges, 3, x0, x1, x2, [&](const Vec3& p) { return nodeOnTriangle(p, a, b, c, 0); }, [](const SurfacePoint& sp) { return sp.support != 7; }, d, size);
+}
+
+void membraneOnFacets(const Vec3& x0, const Vec3& x1, const Vec3& x2, double r, const Vec3 (*tri)[3], const int* ids, int n, TriangleEdge* edge, FacetHit* hit)
+{
+	for (int k = 0; k < n; ++k) {
+		edge[k] = triangleEdgesOnTriangle(x0, x1, x2, tri[k][0], tri[k][1], tri[k][2]);
+		setHit(hit[k], ids[k], edge[k].valid, r - edge[k].distance, edge[k].support, tri[k]);
+	}
+	dropHiddenEdges(
+	        tri, n, hit, [&](int k) { return edge[k].onTriangle; }, [&](int k) { return edge[k].point; }, [&](int k) { return edge[k].distance; });
 }
 
 bool onSharedFeature(const FacetHit& a, const FacetHit& b)

@@ -84,6 +84,28 @@ SurfacePoint nodeOnTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const V
 /// support: the vertices carrying the point (for the ownership among facets, FacetHit).
 SegmentEdge segmentOnTriangleEdges(const Vec3& x0, const Vec3& x1, const Vec3& a, const Vec3& b, const Vec3& c);
 
+/// The contact of a membrane's interior (a thick triangle, midplane (x0, x1, x2)) with a rigid
+/// surface's edge or vertex (a box corner or edge, a facet's rim or ridge pressed into a sheet).
+/// The distance from a convex body is convex over the triangle, so its minimum is one point (or a
+/// stretch that ties with it): at a node (the node's contact), or, between the nodes, where the
+/// body's closest point is an edge or vertex (over a box face or a facet's face the distance is
+/// that of a plane, linear over the triangle: a node is as deep). valid: the surface's closest
+/// point to the membrane's point lies on an edge or vertex, nearer than the three nodes. pierced:
+/// an edge passes through the midplane (the overlap is the half-thickness wherever it goes, see
+/// kernel/Onset.hpp); point and onTriangle are then the piercing point, distance 0.
+struct TriangleEdge {
+	bool     valid = false, pierced = false;
+	double   w[3]  = { 0, 0, 0 }; ///< barycentric weights of onTriangle on the membrane
+	unsigned triSupport = 7;      ///< the membrane's nodes carrying onTriangle
+	Vec3     onTriangle = Vec3::Zero(), point = Vec3::Zero(), normal = Vec3::Zero();
+	double   distance = 0;
+	unsigned support  = 7; ///< a rigid triangle: its vertices carrying `point`; a box: 7
+};
+/// The box of half-sizes ext at the origin against the membrane (x0, x1, x2) in the box's frame.
+TriangleEdge boxEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext);
+/// The rigid triangle (a, b, c) (YADE's Facet) against the membrane (x0, x1, x2).
+TriangleEdge triangleEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& a, const Vec3& b, const Vec3& c);
+
 struct FacetHit;
 /// A segment's interior against a surface of facets: for facet k (vertices tri[k], body id ids[k])
 /// its segmentOnTriangleEdges in edge[k] and, for ownsFacetCluster, hit[k] with the overlap
@@ -91,6 +113,11 @@ struct FacetHit;
 /// segment's point than this edge (a point over a neighbour's face, or a coplanar neighbour's
 /// shared edge, is that face's, and the nodes carry it). n <= 64.
 void segmentOnFacets(const Vec3& x0, const Vec3& x1, double r, const Vec3 (*tri)[3], const int* ids, int n, SegmentEdge* edge, FacetHit* hit);
+
+/// A membrane triangle (x0, x1, x2), half-thickness r, against a surface of facets, as
+/// segmentOnFacets: edge[k] its triangleEdgesOnTriangle with facet k, hit[k] for ownsFacetCluster
+/// (-1 where there is none or another facet is nearer to the membrane's point). n <= 64.
+void membraneOnFacets(const Vec3& x0, const Vec3& x1, const Vec3& x2, double r, const Vec3 (*tri)[3], const int* ids, int n, TriangleEdge* edge, FacetHit* hit);
 
 /// One facet contact of a node (or of a cylinder's interior, segmentOnFacets), for the ownership among the node's facet contacts.
 struct FacetHit {

@@ -1,6 +1,7 @@
 // yade-flex adapter: deformable elements against YADE's Wall, Box and Facet (GPL-2.0-or-later).
 // See FlexSurfaces.hpp; the numerics are in pkg/kernel/Surface.hpp.
 #include "FlexSurfaces.hpp"
+#include "FlexElementGeom.hpp"
 #include "FlexElements.hpp"
 #include "FlexOwnership.hpp"
 #include "FlexProtocol.hpp"
@@ -16,7 +17,7 @@
 namespace yade {
 
 YADE_PLUGIN((Ig2_Wall_FlexNode_FlexContactGeom)(Ig2_Box_FlexNode_FlexContactGeom)(Ig2_Box_FlexCylinder_FlexContactGeom)(Ig2_Facet_FlexNode_FlexContactGeom)(
-        Ig2_Facet_FlexCylinder_FlexContactGeom));
+        Ig2_Facet_FlexCylinder_FlexContactGeom)(Ig2_Box_FlexFacet_FlexContactGeom)(Ig2_Facet_FlexFacet_FlexContactGeom));
 
 namespace flexa {
 	Real nodeContactRadius(const Scene* scene, const FlexNode& node)
@@ -109,6 +110,30 @@ namespace {
 		h.support                   = sp.support;
 		return h;
 	}
+	// The facets paired with element body `element` (its interactions: the loop does not change the
+	// maps it reads), at most kMaxFacets, in tri (world vertices) and ids; me: the index of facet
+	// `self` among them (-1: not paired).
+	constexpr int kMaxFacets = 64;
+	int           facetsPairedWith(const Scene* scene, const Body* element, Body::id_t self, Vector3r (*tri)[3], int* ids, int& me)
+	{
+		int n = 0;
+		me    = -1;
+		if (!element) return 0;
+		for (const auto& kv : element->intrs) {
+			const Body* b = flexa::bodyAt(scene, kv.first);
+			if (!b || !b->shape) continue;
+			const Facet* f = flexa::fastCast<Facet>(b->shape.get());
+			if (!f) continue;
+			if (n == kMaxFacets) {
+				if (me >= 0) break;
+				n = kMaxFacets - 1; // (keep a slot for this facet)
+			}
+			if (b->id == self) me = n;
+			facetVertices(*f, *b->state, tri[n]);
+			ids[n++] = b->id;
+		}
+		return n;
+	}
 } // namespace
 
 bool Ig2_Wall_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
@@ -198,26 +223,12 @@ bool Ig2_Facet_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>&, const 
 	// the cylinder against every facet it is paired with (the surface around this one; the loop
 	// does not change the maps it reads), computed from the geometry alone: the edge point of this
 	// facet only where no other facet is nearer, one contact per point (kernel/Surface.hpp)
-	constexpr int     kMax = 64;
-	Vector3r          tri[kMax][3];
-	int               ids[kMax];
-	flex::SegmentEdge edge[kMax];
-	flex::FacetHit    hit[kMax];
-	int               n = 0, me = -1;
-	if (sa && sb && cyl)
-		for (const auto& kv : cyl->intrs) {
-			const Body* b = flexa::bodyAt(scene, kv.first);
-			if (!b || !b->shape) continue;
-			const Facet* f = flexa::fastCast<Facet>(b->shape.get());
-			if (!f) continue;
-			if (n == kMax) {
-				if (me >= 0) break;
-				n = kMax - 1; // (keep a slot for this facet)
-			}
-			if (b->id == I->getId1()) me = n;
-			facetVertices(*f, *b->state, tri[n]);
-			ids[n++] = b->id;
-		}
+	Vector3r          tri[kMaxFacets][3];
+	int               ids[kMaxFacets];
+	flex::SegmentEdge edge[kMaxFacets];
+	flex::FacetHit    hit[kMaxFacets];
+	int               me = -1;
+	const int         n  = (sa && sb) ? facetsPairedWith(scene, cyl, I->getId1(), tri, ids, me) : 0;
 	flex::SegmentEdge e;
 	Body::id_t        beaten[8];
 	int               nb  = 0;
@@ -277,6 +288,146 @@ bool Ig2_Facet_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const 
 		return o;
 	};
 	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, owns);
+}
+
+namespace {
+	// A rigid surface (side 1) against a membrane facet (side 2) at the surface's edge or vertex
+	// (kernel/Surface.hpp, TriangleEdge), as an element pair of flexa::elementGeom. where(x):
+	// the surface's contact with the membrane (x: its nodes' positions) in the world frame;
+	// rimOwns(e, beaten, nb): the surface's side of the ownership (a surface of facets).
+	template <class Where, class RimOwns> struct SurfaceMembrane {
+		Scene*             scene;
+		const Interaction& I;
+		const State&       sS;
+		const FlexFacet&   fa;
+		Where              where;
+		RimOwns            rimOwns;
+		flexa::FacetNodes  fn;
+		flex::TriangleEdge e;
+		// the contacts this one may take over (flexa::takeOverPairShear: surface id, membrane id):
+		// this surface with the membrane's beaten neighbours, the beaten surfaces with this
+		// membrane, and with those neighbours
+		std::pair<Body::id_t, Body::id_t> pairs[8];
+		int                               nPairs = 0;
+		bool               bonded() const { return false; }
+		bool               apart() const { return false; }
+		bool               load() { return fn.load(scene, fa, Vector3r::Zero()); }
+		Real               closest()
+		{
+			e = where(fn.x);
+			return e.valid ? fa.radius - e.distance : Real(-1);
+		}
+		flex::PointTriangle onMembrane() const
+		{
+			flex::PointTriangle pt;
+			pt.point   = e.onTriangle;
+			pt.support = e.triSupport;
+			for (int k = 0; k < 3; ++k)
+				pt.w[k] = e.w[k];
+			return pt;
+		}
+		bool owns(Real)
+		{
+			Body::id_t rim[8], other[8];
+			int        nRim = 0, nOther = 0;
+			if (!rimOwns(e, rim, nRim)) return false;
+			const flexa::Element self = flexa::elementOf(&fa);
+			// (self's contact with the probe arithmetic the neighbours are compared with: its surface point, radius 0)
+			const flex::Hit hit = flex::probe(flexa::SceneMesh { scene }, self, e.point, 0);
+			if (!(hit.overlap > 0) || !flexa::owns(scene, self, I.getId2(), e.point, 0, hit, other, nOther)) return false;
+			nPairs = 0;
+			for (int k = 0; k < nOther && nPairs < 8; ++k)
+				pairs[nPairs++] = { I.getId1(), other[k] };
+			for (int j = 0; j < nRim && nPairs < 8; ++j) {
+				pairs[nPairs++] = { rim[j], I.getId2() };
+				for (int k = 0; k < nOther && nPairs < 8; ++k)
+					pairs[nPairs++] = { rim[j], other[k] };
+			}
+			return true;
+		}
+		void fill(FlexContactGeom& g, bool isNew)
+		{
+			if (!e.valid) return; // the contact has passed to a node at the same overlap, or apart: as it was
+			const flex::PointTriangle pt = onMembrane();
+			Real                      dist;
+			g.normal           = flexa::facetNormal(fn, pt, e.point, sS.pos, isNew, g.normal, dist);
+			g.penetrationDepth = fa.radius - dist;
+			g.pierced          = e.pierced;
+			g.refR1 = g.refR2  = fa.radius;
+			g.contactPoint     = e.point - 0.5 * g.penetrationDepth * g.normal;
+			g.nodes1 = g.nodes2 = Vector2i(-1, -1);
+			g.tri1              = Vector3i(-1, -1, -1);
+			g.tri2              = Vector3i(fa.node1, fa.node2, fa.node3);
+			g.bary2             = Vector3r(e.w[0], e.w[1], e.w[2]);
+			g.u1 = g.u2         = 0;
+			g.axis1             = sS.pos;
+			g.axis2             = e.onTriangle;
+			const Vector3r v1   = sS.vel + sS.angVel.cross(g.contactPoint - sS.pos);
+			const Vector3r v2   = flex::trianglePointVelocity(fn.x, fn.v, e.w, flex::cappedFacetOffset(fn.x, g.contactPoint - e.onTriangle));
+			g.relVel            = v2 - v1;
+		}
+		void finish(FlexContactGeom& g, bool own) { flexa::finishGeom(scene, g, own, &I, I.getId2(), nullptr, 0, pairs, nPairs); }
+	};
+	template <class Where, class RimOwns>
+	SurfaceMembrane<Where, RimOwns> surfaceMembrane(Scene* scene, const Interaction& I, const State& sS, const FlexFacet& fa, Where where, RimOwns rimOwns)
+	{
+		return SurfaceMembrane<Where, RimOwns> { scene, I, sS, fa, where, rimOwns };
+	}
+	bool aloneOnItsSide(const flex::TriangleEdge&, Body::id_t*, int& nb)
+	{
+		nb = 0;
+		return true;
+	}
+} // namespace
+
+bool Ig2_Box_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Box_FlexFacet_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const Box& box   = static_cast<const Box&>(*cm1);
+	const auto where = [&](const Vector3r* x) {
+		const Quaternionr  q = sS.ori.conjugate();
+		flex::TriangleEdge e = flex::boxEdgesOnTriangle(q * (x[0] - sS.pos), q * (x[1] - sS.pos), q * (x[2] - sS.pos), box.extents);
+		e.point              = sS.pos + sS.ori * e.point;
+		e.onTriangle         = sS.pos + sS.ori * e.onTriangle;
+		e.normal             = sS.ori * e.normal;
+		return e;
+	};
+	auto p = surfaceMembrane(scene, *I, sS, static_cast<const FlexFacet&>(*cm2), where, aloneOnItsSide);
+	return flexa::elementGeom(scene, I, force, p);
+}
+
+bool Ig2_Facet_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>&, const shared_ptr<Shape>& cm2, const State& sS, const State&,
+        const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
+{
+	if (scene->isPeriodic) throw std::runtime_error("Ig2_Facet_FlexFacet_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
+	const FlexFacet& fa       = static_cast<const FlexFacet&>(*cm2);
+	const Body*      membrane = flexa::bodyAt(scene, I->getId2());
+	// the membrane against every facet it is paired with (the surface around this one), from the
+	// geometry alone: this facet's edge point only where no other facet is nearer, one contact per
+	// point (kernel/Surface.hpp)
+	Vector3r           tri[kMaxFacets][3];
+	int                ids[kMaxFacets];
+	flex::TriangleEdge edge[kMaxFacets];
+	flex::FacetHit     hit[kMaxFacets];
+	int                me = -1;
+	const int          n  = facetsPairedWith(scene, membrane, I->getId1(), tri, ids, me);
+	const auto where = [&](const Vector3r* x) {
+		if (me < 0) return flex::TriangleEdge();
+		flex::membraneOnFacets(x[0], x[1], x[2], fa.radius, tri, ids, n, edge, hit);
+		return edge[me];
+	};
+	const auto rimOwns = [&](const flex::TriangleEdge&, Body::id_t* beaten, int& nb) {
+		nb = 0;
+		if (me < 0 || !(hit[me].overlap > 0)) return false;
+		int        got[8];
+		const bool o = flex::ownsFacetCluster(hit, n, me, got, nb);
+		for (int k = 0; k < nb; ++k)
+			beaten[k] = got[k];
+		return o;
+	};
+	auto p = surfaceMembrane(scene, *I, sS, fa, where, rimOwns);
+	return flexa::elementGeom(scene, I, force, p);
 }
 
 namespace flexa {
@@ -361,10 +512,14 @@ namespace flexa {
 	{
 		const Body* element = nullptr;
 		const Body* surface[3] { nullptr, nullptr, nullptr };
+		bool membranes = false;
 		for (const auto& b : *scene->bodies)
 			if (b && b->shape && elementOf(b->shape.get()).nNodes) {
-				element = b.get();
-				break;
+				if (!element) element = b.get();
+				if (fastCast<FlexFacet>(b->shape.get())) {
+					membranes = true;
+					break;
+				}
 			}
 		if (!element) return;
 		const InteractionLoop* loop = nullptr;
@@ -378,6 +533,7 @@ namespace flexa {
 		};
 		const char* names[3] = { "Ig2_Wall_FlexNode_FlexContactGeom", "Ig2_Box_FlexNode_FlexContactGeom", "Ig2_Facet_FlexNode_FlexContactGeom" };
 		const char* extra[3] = { nullptr, "Ig2_Box_FlexCylinder_FlexContactGeom", "Ig2_Facet_FlexCylinder_FlexContactGeom" };
+		const char* membrane[3] = { nullptr, "Ig2_Box_FlexFacet_FlexContactGeom", "Ig2_Facet_FlexFacet_FlexContactGeom" };
 		for (const auto& b : *scene->bodies) {
 			if (!b || !b->shape || b->isClump()) continue;
 			const SurfaceKind k = kindOf(b->shape.get());
@@ -390,7 +546,7 @@ namespace flexa {
 			const int i = k == SurfaceKind::wall ? 0 : k == SurfaceKind::box ? 1 : k == SurfaceKind::facet ? 2 : -1;
 			if (i < 0 || surface[i]) continue;
 			surface[i] = b.get();
-			for (const char* name : { names[i], extra[i] })
+			for (const char* name : { names[i], extra[i], membranes ? membrane[i] : nullptr })
 				if (name && !has(name)) {
 					os << "body #" << b->id << " is a " << b->shape->getClassName() << " and the interaction loop has no " << name << ": element #"
 					   << element->id << " would pass through it; use yadeflex.engines(), or add " << name << "() to the loop's geometry functors";

@@ -7,6 +7,8 @@
 //    elements on the node, flexa::nodeContactRadius) with the surface;
 //  - Ig2_Box_FlexCylinder_FlexContactGeom, Ig2_Facet_FlexCylinder_FlexContactGeom: a cylinder
 //    against a box's or a facet's edge or vertex between its nodes;
+//  - Ig2_Box_FlexFacet_FlexContactGeom, Ig2_Facet_FlexFacet_FlexContactGeom: a membrane facet
+//    against a box's or a facet's edge or vertex between its nodes;
 //  - flexa::addSurfaceNodePairs: nodes have no bound, so the collider never pairs them; it pairs
 //    their elements with the surfaces. FlexInteractionLoop calls this at the start of each step on
 //    which the collider ran or the container changed: for each pair (element, surface) it makes
@@ -18,6 +20,7 @@
 //    bodies they cannot touch (another shape, or an interaction loop without these functors).
 #pragma once
 #include "Flex.hpp"
+#include "FlexFacet.hpp"
 
 #include <pkg/common/Box.hpp>
 #include <pkg/common/Facet.hpp>
@@ -109,6 +112,40 @@ public:
 	DEFINE_FUNCTOR_ORDER_2D(Facet, FlexCylinder);
 };
 REGISTER_SERIALIZABLE(Ig2_Facet_FlexCylinder_FlexContactGeom);
+
+class Ig2_Box_FlexFacet_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
+	{
+		throw std::logic_error("Ig2_Box_FlexFacet_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_Box_FlexFacet_FlexContactGeom, IGeomFunctor, "YADE :yref:`Box` - :yref:`FlexFacet` contact at a box edge or corner pressed into a membrane between its nodes (a block on a sheet, a sheet draped over a block): where the box's closest point to the membrane's midplane lies on an edge or corner, nearer than the facet's three nodes (pkg/kernel/Surface.hpp, boxEdgesOnTriangle); the force goes to the three nodes by the barycentric weights. Over a face the box meets the membrane at its nodes (:yref:`Ig2_Box_FlexNode_FlexContactGeom`), and the contact passes from one to the other at the same overlap. At an edge two facets of a sheet share, one of them carries the contact. An edge pushed through the midplane carries no normal force until it comes out (:yref:`FlexContactGeom.pierced`); one pushed wholly through is pushed back towards the side it came from.");
+	// clang-format on
+	FUNCTOR2D(Box, FlexFacet);
+	DEFINE_FUNCTOR_ORDER_2D(Box, FlexFacet);
+};
+REGISTER_SERIALIZABLE(Ig2_Box_FlexFacet_FlexContactGeom);
+
+class Ig2_Facet_FlexFacet_FlexContactGeom : public IGeomFunctor {
+public:
+	bool go(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override;
+	bool goReverse(const shared_ptr<Shape>&, const shared_ptr<Shape>&, const State&, const State&, const Vector3r&, const bool&,
+	        const shared_ptr<Interaction>&) override
+	{
+		throw std::logic_error("Ig2_Facet_FlexFacet_FlexContactGeom::goReverse called: the dispatcher should swap the bodies.");
+	}
+	// clang-format off
+	YADE_CLASS_BASE_DOC(Ig2_Facet_FlexFacet_FlexContactGeom, IGeomFunctor, "YADE :yref:`Facet` - :yref:`FlexFacet` contact at a facet's edge or vertex pressed into a membrane between its nodes (a sheet over a ridge or the rim of a surface of facets): where the facet's closest point to the membrane's midplane lies on an edge or vertex, nearer than the membrane facet's three nodes (pkg/kernel/Surface.hpp, triangleEdgesOnTriangle); the force goes to the three nodes by the barycentric weights. Over an edge or vertex that several facets share, one of them carries the contact (the deepest; ties: the lower id), and at an edge two membrane facets share, one of those. Over a face the facet meets the membrane at its nodes (:yref:`Ig2_Facet_FlexNode_FlexContactGeom`). An edge pushed through the midplane carries no normal force until it comes out (:yref:`FlexContactGeom.pierced`).");
+	// clang-format on
+	FUNCTOR2D(Facet, FlexFacet);
+	DEFINE_FUNCTOR_ORDER_2D(Facet, FlexFacet);
+};
+REGISTER_SERIALIZABLE(Ig2_Facet_FlexFacet_FlexContactGeom);
 
 namespace flexa {
 	/// Contact radius of a node: the largest radius of the elements on it that still exist (0:

@@ -10,6 +10,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionL
                           Ig2_FlexFacet_FlexFacet_FlexContactGeom, Ig2_Sphere_Sphere_FlexContactGeom,
                           Ig2_Wall_FlexNode_FlexContactGeom, Ig2_Box_FlexNode_FlexContactGeom, Ig2_Facet_FlexNode_FlexContactGeom,
                           Ig2_Box_FlexCylinder_FlexContactGeom, Ig2_Facet_FlexCylinder_FlexContactGeom,
+                          Ig2_Box_FlexFacet_FlexContactGeom, Ig2_Facet_FlexFacet_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator, FlexGuard,
                           FlexCylinder, FlexNode, Sphere, FlexRun)
@@ -106,7 +107,8 @@ def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP
              Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
              Ig2_Facet_Sphere_ScGeom(), Ig2_Box_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(),
              Ig2_Wall_FlexNode_FlexContactGeom(), Ig2_Box_FlexNode_FlexContactGeom(), Ig2_Facet_FlexNode_FlexContactGeom(),
-             Ig2_Box_FlexCylinder_FlexContactGeom(), Ig2_Facet_FlexCylinder_FlexContactGeom()],
+             Ig2_Box_FlexCylinder_FlexContactGeom(), Ig2_Facet_FlexCylinder_FlexContactGeom(),
+             Ig2_Box_FlexFacet_FlexContactGeom(), Ig2_Facet_FlexFacet_FlexContactGeom()],
             [Ip2_FrictMat_FrictMat_FrictPhys()],
             [Law2_ScGeom_FrictPhys_CundallStrack(), Law2_FlexContactGeom_FrictPhys_CundallStrack(label="flexLaw", rollingStiffness=rolling_stiffness,
                                                                                         rollingFriction=rolling_friction, crushingIs50=crushing_is50)],

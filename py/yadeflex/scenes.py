@@ -262,7 +262,6 @@ def drop_on_surface(structure="net", surface="wall", drop=0.02, size=0.4, cells=
     elements' contact modulus is contact_young too. Returns dict(nodes, elements, floor (ids),
     params)."""
     from yade import utils
-    from . import membrane as M
     C.choice("structure", structure, STRUCTURES)
     C.choice("surface", surface, SURFACES)
     C.number("drop", drop, C.Range(0.0, unit="m"))
@@ -273,19 +272,10 @@ def drop_on_surface(structure="net", surface="wall", drop=0.02, size=0.4, cells=
     v = B.check_finite("velocity", velocity)
     args = engine_args(damping=damping)
     O.reset()
-    floor_mat = FrictMat(young=contact_young, poisson=0.25, density=2500.0, frictionAngle=math.radians(friction_deg), label="floor")
-    O.materials.append(floor_mat)
+    floor_mat = _rigid_material("floor", contact_young, friction_deg)
     lo = 0.5 - 0.5 * size  # the structure's corner, over the middle of the 1 m floor
-    if structure == "net":
-        r = 0.003
-        mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
-        grid, elements = B.net(cells + 1, size / cells, r, mat, origin=(lo, lo, r + drop), fix_border=False)
-        nodes = [n for col in grid for n in col]
-    else:
-        r = 0.001
-        mat = M.geotextile(young=contact_young, friction_deg=friction_deg)
-        sh = M.sheet(cells, cells, (size, size), 2 * r, mat, origin=(lo, lo, r + drop), fix_border=False)
-        nodes, elements = [n for col in sh["grid"] for n in col], sh["facets"]
+    r = 0.003 if structure == "net" else 0.001
+    nodes, elements = _free_structure(structure, cells, size / cells, contact_young, friction_deg, (lo, lo, r + drop))
     for n in nodes:
         O.bodies[n].state.vel = v
     if surface == "wall":
@@ -328,14 +318,37 @@ def block_on_net(clump=False, speed=1.0, contact_young=1e8):
                 params=dict(clump=clump, speed=speed, contact_young=contact_young))
 
 
-def net_on_ridge(drop=0.005, slope_deg=30.0, cells=5, contact_young=1e8, friction_deg=30.0, damping=0.0):
-    """A free square net (yadeflex.net of (cells + 1)^2 steel nodes 0.1 m apart, wire radius 3 mm,
-    element modulus 2e11 Pa) held flat drop [m] above the ridge of a fixed roof of four YADE Facets
-    and released under gravity. The ridge runs along y at x = 0.5 m, z = 0, between two columns of
-    nodes (cells odd), so that the wires crossing it meet it between their nodes
-    (Ig2_Facet_FlexCylinder_FlexContactGeom); each slope falls at slope_deg [deg] to x = 0 and
-    x = 1 m and is a rectangle of two facets, one of them on the ridge. Materials as in
-    drop_on_surface. Returns dict(nodes, elements, roof (facet ids), ridge_facets, params)."""
+def _rigid_material(label, young, friction_deg):
+    """A FrictMat for the scenes' rigid bodies (density 2500 kg/m3, Poisson 0.25), added to O.materials."""
+    mat = FrictMat(young=young, poisson=0.25, density=2500.0, frictionAngle=math.radians(friction_deg), label=label)
+    O.materials.append(mat)
+    return mat
+
+
+def _free_structure(structure, cells, spacing, contact_young, friction_deg, origin):
+    """A free square structure of cells x cells cells of spacing [m] with its corner node at origin:
+    'net' (yadeflex.net, steel nodes, wire radius 3 mm, element modulus 2e11 Pa) or 'sheet'
+    (yadeflex.sheet of geotextile, 2 mm thick, crossed diagonals). Returns (nodes, elements)."""
+    from . import membrane as M
+    if structure == "net":
+        mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
+        grid, elements = B.net(cells + 1, spacing, 0.003, mat, origin=origin, fix_border=False)
+        return [n for col in grid for n in col], elements
+    mat = M.geotextile(young=contact_young, friction_deg=friction_deg)
+    sh = M.sheet(cells, cells, (cells * spacing, cells * spacing), 0.002, mat, origin=origin, fix_border=False)
+    return [n for col in sh["grid"] for n in col], sh["facets"]
+
+
+def net_on_ridge(drop=0.005, slope_deg=30.0, cells=5, contact_young=1e8, friction_deg=30.0, damping=0.0, structure="net"):
+    """A free square net (structure 'net': yadeflex.net of (cells + 1)^2 steel nodes 0.1 m apart,
+    wire radius 3 mm, element modulus 2e11 Pa; 'sheet': a geotextile sheet of the same outline, 2 mm
+    thick) held flat drop [m] above the ridge of a fixed roof of four YADE Facets and released under
+    gravity. The ridge runs along y at x = 0.5 m, z = 0, between two columns of nodes (cells odd), so
+    that the wires (the sheet's facets) crossing it meet it between their nodes
+    (Ig2_Facet_FlexCylinder_FlexContactGeom, Ig2_Facet_FlexFacet_FlexContactGeom); each slope falls
+    at slope_deg [deg] to x = 0 and x = 1 m and is a rectangle of two facets, one of them on the
+    ridge. Materials as in drop_on_surface. Returns dict(nodes, elements, roof (facet ids),
+    ridge_facets, params)."""
     from yade import utils
     C.number("drop", drop, C.Range(0.0, unit="m"))
     C.number("slope_deg", slope_deg, C.Range(0.0, 80.0, lo_open=True, unit="deg"))
@@ -344,17 +357,46 @@ def net_on_ridge(drop=0.005, slope_deg=30.0, cells=5, contact_young=1e8, frictio
         raise ValueError(f"cells must be odd (the ridge runs between two columns of nodes), got {cells}")
     C.number("contact_young", contact_young, MODULUS)
     C.number("friction_deg", friction_deg, FRICTION_DEG)
+    C.choice("structure", structure, STRUCTURES)
     args = engine_args(damping=damping)
     O.reset()
-    roof_mat = FrictMat(young=contact_young, poisson=0.25, density=2500.0, frictionAngle=math.radians(friction_deg), label="roof")
-    O.materials.append(roof_mat)
-    r, spacing = 0.003, 0.1
+    roof_mat = _rigid_material("roof", contact_young, friction_deg)
+    r, spacing = (0.003 if structure == "net" else 0.001), 0.1
     lo = 0.5 - 0.5 * cells * spacing
-    mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
-    grid, elements = B.net(cells + 1, spacing, r, mat, origin=(lo, lo, r + drop), fix_border=False)
+    nodes, elements = _free_structure(structure, cells, spacing, contact_young, friction_deg, (lo, lo, r + drop))
     h = 0.5 * math.tan(math.radians(slope_deg))
     r0, r1, a0, a1, b0, b1 = (0.5, 0, 0), (0.5, 1, 0), (0, 0, -h), (0, 1, -h), (1, 0, -h), (1, 1, -h)
     roof = [O.bodies.append(utils.facet(t, fixed=True, material=roof_mat)) for t in ((r0, r1, a1), (r0, a1, a0), (r1, r0, b0), (r1, b0, b1))]
     O.engines = engines(gravity=args[0], damping=args[1])
-    return dict(nodes=[n for col in grid for n in col], elements=elements, roof=roof, ridge_facets=[roof[0], roof[2]],
-                params=dict(drop=drop, slope_deg=slope_deg, cells=cells, contact_young=contact_young, friction_deg=friction_deg, damping=damping))
+    return dict(nodes=nodes, elements=elements, roof=roof, ridge_facets=[roof[0], roof[2]],
+                params=dict(drop=drop, slope_deg=slope_deg, cells=cells, contact_young=contact_young, friction_deg=friction_deg, damping=damping,
+                            structure=structure))
+
+
+def sheet_on_corner(drop=0.005, cells=5, contact_young=1e8, friction_deg=30.0, damping=0.0, box_half=0.1):
+    """A free geotextile sheet (yadeflex.sheet, cells x cells cells 0.12 m wide, 2 mm thick, crossed
+    diagonals) held flat drop [m] above a corner of a fixed YADE Box (half-size box_half [m]) that
+    points straight up at (0.5, 0.5, 0), under the middle of the sheet's central cell (cells odd: on
+    the diagonal two of its facets share), and released under gravity. The sheet meets the corner
+    between its nodes (Ig2_Box_FlexFacet_FlexContactGeom). Materials as in drop_on_surface. Returns
+    dict(nodes, elements, box, corner, params)."""
+    from yade import utils
+    C.number("drop", drop, C.Range(0.0, unit="m"))
+    cells = C.integer("cells", cells, 1, 99)
+    if cells % 2 == 0:
+        raise ValueError(f"cells must be odd (the corner lies under the middle of a cell), got {cells}")
+    C.number("contact_young", contact_young, MODULUS)
+    C.number("friction_deg", friction_deg, FRICTION_DEG)
+    a = B._positive("box_half", box_half)
+    args = engine_args(damping=damping)
+    O.reset()
+    box_mat = _rigid_material("box", contact_young, friction_deg)
+    spacing = 0.12
+    lo = 0.5 - 0.5 * cells * spacing
+    nodes, elements = _free_structure("sheet", cells, spacing, contact_young, friction_deg, (lo, lo, 0.001 + drop))
+    diag = Vector3(1, 1, 1).normalized()  # the box's corner (a, a, a) turned to point up
+    q = Quaternion(diag.cross(Vector3(0, 0, 1)).normalized(), math.acos(1 / math.sqrt(3)))
+    box = O.bodies.append(utils.box((0.5, 0.5, -a * math.sqrt(3)), (a, a, a), orientation=q, fixed=True, material=box_mat))
+    O.engines = engines(gravity=args[0], damping=args[1])
+    return dict(nodes=nodes, elements=elements, box=box, corner=Vector3(0.5, 0.5, 0),
+                params=dict(drop=drop, cells=cells, contact_young=contact_young, friction_deg=friction_deg, damping=damping, box_half=a))

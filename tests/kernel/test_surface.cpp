@@ -256,3 +256,118 @@ TEST(Surface, WireFromANodeOnASharedDiagonalHasNoEdgeContact)
 	EXPECT_FALSE(hit[0].overlap > 0);
 	EXPECT_FALSE(hit[1].overlap > 0);
 }
+
+namespace {
+// A large triangle in the plane n . x = h (n unit), around the point q of that plane.
+void triangleAround(const Vec3& n, const Vec3& q, double size, Vec3 x[3])
+{
+	const Vec3 t = n.unitOrthogonal(), s = n.cross(t);
+	for (int k = 0; k < 3; ++k) {
+		const double a = 2 * M_PI * k / 3;
+		x[k]           = q + size * (std::cos(a) * t + std::sin(a) * s);
+	}
+}
+} // namespace
+
+// A box corner pressed into the middle of a sheet: met at the corner, between the sheet's nodes.
+TEST(Surface, BoxCornerUnderAMembraneIsMetBetweenItsNodes)
+{
+	const Vec3 ext(1, 1, 1), n = Vec3(1, 1, 1).normalized();
+	Vec3       x[3];
+	triangleAround(n, Vec3(1, 1, 1) + 0.3 * n, 4, x); // 0.3 from the corner
+	const TriangleEdge e = boxEdgesOnTriangle(x[0], x[1], x[2], ext);
+	ASSERT_TRUE(e.valid);
+	EXPECT_FALSE(e.pierced);
+	expectNear(e.point, Vec3(1, 1, 1));
+	EXPECT_NEAR(e.distance, 0.3, 1e-14);
+	EXPECT_LT((e.normal - n).norm(), 1e-14);
+	EXPECT_EQ(e.triSupport, 7u);
+	EXPECT_NEAR(e.w[0] + e.w[1] + e.w[2], 1, 1e-14);
+	EXPECT_LT((e.w[0] * x[0] + e.w[1] * x[1] + e.w[2] * x[2] - e.onTriangle).norm(), 1e-13);
+	// pushed past the midplane: pierced (the piercing point on the sheet)
+	triangleAround(n, Vec3(1, 1, 1) - 0.1 * n, 4, x);
+	const TriangleEdge p = boxEdgesOnTriangle(x[0], x[1], x[2], ext);
+	ASSERT_TRUE(p.valid);
+	EXPECT_TRUE(p.pierced);
+	EXPECT_EQ(p.distance, 0);
+}
+
+// A box edge under a sheet draped over it, the sheet's nodes beyond: met on the edge.
+TEST(Surface, BoxEdgeUnderAMembraneIsMetOnTheEdge)
+{
+	const Vec3 ext(1, 1, 1), n = Vec3(1, 0, 1).normalized();
+	Vec3       x[3];
+	triangleAround(n, Vec3(1, 0, 1) + 0.2 * n, 5, x);
+	const TriangleEdge e = boxEdgesOnTriangle(x[0], x[1], x[2], ext);
+	ASSERT_TRUE(e.valid);
+	EXPECT_NEAR(e.point[0], 1, 1e-14);
+	EXPECT_NEAR(e.point[2], 1, 1e-14);
+	EXPECT_LE(std::abs(e.point[1]), 1);
+	EXPECT_NEAR(e.distance, 0.2, 1e-14);
+}
+
+// A sheet lying over a box's top face, or whose nearest point is a node: no edge contact (the
+// nodes carry it).
+TEST(Surface, MembraneOverABoxFaceOrNearestAtANodeHasNoEdgeContact)
+{
+	const Vec3 ext(1, 1, 1);
+	// flat over the top face, its nodes over the face (one of them the deepest, tilted slightly)
+	EXPECT_FALSE(boxEdgesOnTriangle(Vec3(-0.8, -0.8, 1.1), Vec3(0.8, -0.8, 1.12), Vec3(0, 0.8, 1.15), ext).valid);
+	// a node nearest the corner
+	EXPECT_FALSE(boxEdgesOnTriangle(Vec3(1.1, 1.1, 1.1), Vec3(3, 1.1, 2), Vec3(1.1, 3, 2), ext).valid);
+}
+
+// A sheet across the ridge of a roof of two facets (vertices stored apart): one contact, at the ridge.
+TEST(Surface, MembraneOverARidgeOfTwoFacetsCarriesOneContact)
+{
+	const double e = 1e-15, r = 0.4;
+	const Vec3   tri[2][3] = { { Vec3(0, 0, 0), Vec3(0, 2, 0), Vec3(-2, 1, -1) }, { Vec3(e, 0, 0), Vec3(0, 2 + e, 0), Vec3(2, 1, -1) } };
+	const int    ids[2]    = { 20, 21 };
+	for (double dx : { -0.1, 0.0, 0.1 }) {
+		// a horizontal sheet 0.3 above the ridge, its nodes far over both slopes
+		const Vec3   x0(-1.5 + dx, -2, 0.3), x1(1.5 + dx, 1, 0.3), x2(-1 + dx, 4, 0.3);
+		TriangleEdge edge[2];
+		FacetHit     hit[2];
+		membraneOnFacets(x0, x1, x2, r, tri, ids, 2, edge, hit);
+		ASSERT_TRUE(edge[0].valid && edge[1].valid);
+		EXPECT_NEAR(edge[0].distance, 0.3, 1e-14);
+		EXPECT_NEAR(edge[0].point[0], 0, 1e-14);
+		int        beaten[8], nb0 = 0, nb1 = 0;
+		const bool o0 = ownsFacetCluster(hit, 2, 0, beaten, nb0), o1 = ownsFacetCluster(hit, 2, 1, beaten, nb1);
+		EXPECT_NE(o0, o1) << "one contact at the ridge, dx = " << dx;
+	}
+	// over one facet's face only (a node the deepest): none
+	EXPECT_FALSE(triangleEdgesOnTriangle(Vec3(-1.5, 0.5, -0.2), Vec3(-0.5, 0.5, 0.1), Vec3(-1, 1.5, 0.0), tri[0][0], tri[0][1], tri[0][2]).valid);
+}
+
+// A box corner under the diagonal two facets of a sheet share: the point lies on that edge of
+// both (its support the edge's two nodes), so the sheet's ownership carries it once.
+TEST(Surface, BoxCornerUnderASheetsDiagonalLiesOnThatEdge)
+{
+	const Vec3 ext(1, 1, 1);
+	// the box turned so that its corner (1, 1, 1) points along n; the sheet in the plane n.x = sqrt3 + 0.2
+	const Vec3 n = Vec3(1, 1, 1).normalized(), t = Vec3(1, -1, 0).normalized(), s = n.cross(t);
+	const Vec3 c = Vec3(1, 1, 1) + 0.2 * n;
+	// two facets sharing the diagonal (c - 0.5 t, c + 0.5 t)
+	const Vec3         a = c - 0.5 * t, b = c + 0.5 * t, p = c + 0.5 * s, q = c - 0.5 * s;
+	const TriangleEdge e1 = boxEdgesOnTriangle(a, b, p, ext), e2 = boxEdgesOnTriangle(b, a, q, ext);
+	ASSERT_TRUE(e1.valid && e2.valid);
+	EXPECT_EQ(e1.triSupport, 3u);
+	EXPECT_EQ(e2.triSupport, 3u);
+	EXPECT_NEAR(e1.distance, 0.2, 1e-14);
+}
+
+// Found on a sheet landing on a ridge: a ridge nearly parallel to a facet of the sheet, 1 mm below
+// it; the closest points of the ridge's line and the facet agree along the ridge to 1e-9 m only.
+TEST(Surface, SheetJustOverARidgeIsMetOnTheRidge)
+{
+	const Vec3 a(0.5, 0, 0), b(0.5, 1, 0), c(0, 1, -0.28867513459481287);
+	const Vec3 x0(0.450000000000016, 0.45000000000003654, 0.00097834033827502828), x1(0.54999999999999993, 0.45000000000002233, 0.00097825545717458761),
+	        x2(0.55000000000000127, 0.55000000000000004, 0.00097834033827502828);
+	const TriangleEdge e = triangleEdgesOnTriangle(x0, x1, x2, a, b, c);
+	ASSERT_TRUE(e.valid);
+	EXPECT_EQ(e.support, 3u);
+	EXPECT_NEAR(e.point[0], 0.5, 1e-15);
+	EXPECT_NEAR(e.point[2], 0, 1e-15);
+	EXPECT_NEAR(e.distance, 0.000978297898, 1e-12);
+}
