@@ -330,4 +330,27 @@ bool ownsFacetCluster(const FacetHit* hit, int n, int self, int* beaten, int& nB
 	return true;
 }
 
+bool ownsOnUnion(const MemberPoint& self, const MemberPoint* others, int n, double tol, int* beaten, int& nBeaten)
+{
+	nBeaten = 0;
+	for (int k = 0; k < n; ++k) {
+		const MemberPoint& o    = others[k];
+		const bool         same = (o.point - self.point).norm() <= tol;
+		if (same && std::abs(o.distance - self.distance) <= tol) {
+			if (o.id < self.id) return false;
+			if (nBeaten < 8) beaten[nBeaten++] = o.id;
+		} else if (!same && self.onRim && o.distance <= self.distance + tol)
+			return false;
+	}
+	return true;
+}
+
+bool onBoxRim(const Vec3& p, const Vec3& ext, double tol)
+{
+	int n = 0;
+	for (int a = 0; a < 3; ++a)
+		n += std::abs(std::abs(p[a]) - ext[a]) <= tol ? 1 : 0;
+	return n >= 2;
+}
+
 } // namespace flex

@@ -134,4 +134,28 @@ bool onSharedFeature(const FacetHit& a, const FacetHit& b);
 /// the cluster are in beaten (ids, at most 8 kept).
 bool ownsFacetCluster(const FacetHit* hit, int n, int self, int* beaten, int& nBeaten);
 
+/// A rigid union of bodies (a clump of boxes) meets a probe (a node's centre, a wire's or a
+/// membrane's nearest point) once per point of its outer surface. Its members' surfaces also run
+/// where members touch: a member's edge on a seam lies inside the union's face (or inside the
+/// union), and a wire under the seam of two boxes side by side touches both members' edges at
+/// one point. So member `self`'s contact, at `point` at `distance` from the probe, on an edge or
+/// vertex of the member (onRim) or on its face, is the union's unless
+///  - another member reaches the probe at the same point (within tol) as near: one contact, the
+///    lower id's;
+///  - it is on an edge or vertex and another member reaches the probe as near or nearer at another
+///    point: the union's surface nearest the probe is that member's (a face contact is never
+///    dropped so: a node in the valley of an L-shaped clump touches both faces, two contacts).
+struct MemberPoint {
+	int    id       = -1;
+	double distance = 0;
+	Vec3   point    = Vec3::Zero();
+	bool   onRim    = false; ///< on an edge or vertex of the member (not its face)
+};
+/// Whether self carries its contact among the members others[0..n); if so, the members at the
+/// same point are in beaten (ids, at most 8).
+bool ownsOnUnion(const MemberPoint& self, const MemberPoint* others, int n, double tol, int* beaten, int& nBeaten);
+/// Whether the box point p (in the box's frame, on its surface) lies on an edge or vertex: two or
+/// three coordinates on the box's extent ext (within tol).
+bool onBoxRim(const Vec3& p, const Vec3& ext, double tol);
+
 } // namespace flex

@@ -8,6 +8,7 @@
 #include <kernel/Contact.hpp>
 #include <kernel/Surface.hpp>
 
+#include <core/Clump.hpp>
 #include <core/InteractionLoop.hpp>
 #include <lib/factory/ClassFactory.hpp>
 
@@ -134,6 +135,45 @@ namespace {
 		}
 		return n;
 	}
+	// The clump rule (kernel/Surface.hpp, ownsOnUnion) for a contact of Box body `box` with probe x
+	// (a node's centre, a wire's or a membrane's nearest point) at point (world), at distance from x:
+	// whether the box carries it among the clump's boxes (a standalone box does); the members at the
+	// same point in beaten (at most 8).
+	bool clumpOwns(const Scene* scene, const Body* box, const Vector3r& x, const Vector3r& point, Real distance, Body::id_t* beaten, int& nb)
+	{
+		nb = 0;
+		if (!box || !box->isClumpMember()) return true;
+		const Body*  clump = flexa::bodyAt(scene, box->clumpId);
+		const Clump* cl    = clump && clump->shape ? dynamic_cast<const Clump*>(clump->shape.get()) : nullptr;
+		const Box*   own   = flexa::fastCast<Box>(box->shape.get());
+		if (!cl || !own) return true;
+		constexpr int     kMax = 64;
+		flex::MemberPoint others[kMax];
+		int               n    = 0;
+		Real              size = own->extents.norm();
+		for (const auto& m : cl->members) {
+			if (m.first == box->id || n == kMax) continue;
+			const Body* b  = flexa::bodyAt(scene, m.first);
+			const Box*  bx = b && b->shape ? flexa::fastCast<Box>(b->shape.get()) : nullptr;
+			if (!bx) continue;
+			const flex::SurfacePoint sp = flex::nodeOnBox(b->state->ori.conjugate() * (x - b->state->pos), bx->extents);
+			others[n].id                = b->id;
+			others[n].distance          = sp.distance;
+			others[n].point             = b->state->pos + b->state->ori * sp.point;
+			others[n++].onRim           = flex::onBoxRim(sp.point, bx->extents, flex::kNodeTie * bx->extents.norm());
+			size                        = std::max(size, bx->extents.norm());
+		}
+		flex::MemberPoint self;
+		self.id       = box->id;
+		self.distance = distance;
+		self.point    = point;
+		self.onRim    = flex::onBoxRim(box->state->ori.conjugate() * (point - box->state->pos), own->extents, flex::kNodeTie * own->extents.norm());
+		int        got[8];
+		const bool o = flex::ownsOnUnion(self, others, n, flex::kNodeTie * size, got, nb);
+		for (int k = 0; k < nb; ++k)
+			beaten[k] = got[k];
+		return o;
+	}
 } // namespace
 
 bool Ig2_Wall_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State& sN,
@@ -159,7 +199,10 @@ bool Ig2_Box_FlexNode_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const sh
 		sp.normal             = sS.ori * sp.normal;
 		return sp;
 	};
-	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, alone);
+	const auto owns = [&](const flex::SurfacePoint& sp, Real, Body::id_t* beaten, int& nb) {
+		return clumpOwns(scene, flexa::bodyAt(scene, I->getId1()), sN.pos, sp.point, sp.distance, beaten, nb);
+	};
+	return nodeGeom(scene, I, sS, static_cast<const FlexNode&>(*cm2), sN, force, where, owns);
 }
 
 namespace {
@@ -210,7 +253,10 @@ bool Ig2_Box_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>& cm1, cons
 		e.point             = sS.pos + sS.ori * e.point;
 		e.onSegment         = sS.pos + sS.ori * e.onSegment;
 	}
-	return cylinderEdgeGeom(scene, I, sS, c, sa, sb, e, e.valid && c.radius - e.distance > 0, force, nullptr, 0);
+	Body::id_t beaten[8];
+	int        nb  = 0;
+	const bool own = e.valid && c.radius - e.distance > 0 && clumpOwns(scene, flexa::bodyAt(scene, I->getId1()), e.onSegment, e.point, e.distance, beaten, nb);
+	return cylinderEdgeGeom(scene, I, sS, c, sa, sb, e, own, force, beaten, nb);
 }
 
 bool Ig2_Facet_FlexCylinder_FlexContactGeom::go(const shared_ptr<Shape>&, const shared_ptr<Shape>& cm2, const State& sS, const State&,
@@ -373,11 +419,6 @@ namespace {
 	{
 		return SurfaceMembrane<Where, RimOwns> { scene, I, sS, fa, where, rimOwns };
 	}
-	bool aloneOnItsSide(const flex::TriangleEdge&, Body::id_t*, int& nb)
-	{
-		nb = 0;
-		return true;
-	}
 } // namespace
 
 bool Ig2_Box_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State&,
@@ -393,7 +434,10 @@ bool Ig2_Box_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const s
 		e.normal             = sS.ori * e.normal;
 		return e;
 	};
-	auto p = surfaceMembrane(scene, *I, sS, static_cast<const FlexFacet&>(*cm2), where, aloneOnItsSide);
+	const auto inClump = [&](const flex::TriangleEdge& e, Body::id_t* beaten, int& nb) {
+		return clumpOwns(scene, flexa::bodyAt(scene, I->getId1()), e.onTriangle, e.point, e.distance, beaten, nb);
+	};
+	auto p = surfaceMembrane(scene, *I, sS, static_cast<const FlexFacet&>(*cm2), where, inClump);
 	return flexa::elementGeom(scene, I, force, p);
 }
 

@@ -371,3 +371,46 @@ TEST(Surface, SheetJustOverARidgeIsMetOnTheRidge)
 	EXPECT_NEAR(e.point[2], 0, 1e-15);
 	EXPECT_NEAR(e.distance, 0.000978297898, 1e-12);
 }
+
+// Two boxes side by side (a clump), their seam the plane y = 0: a probe under the seam touches
+// both bottom edges at one point (one contact, the lower id's); a probe under one box near the
+// seam touches its face and the other's seam edge (that edge is inside the union's face: dropped);
+// a probe in the valley of an L touches two faces (both kept).
+TEST(Surface, AClumpOfBoxesMeetsAProbeOncePerPointOfItsSurface)
+{
+	const Vec3   ext(1, 0.5, 1);
+	const Vec3   c1(0, -0.5, 0), c2(0, 0.5, 0); // centres: box 1 in y in [-1, 0], box 2 in [0, 1]
+	const double tol = 1e-9;
+	const auto   hit = [&](int id, const Vec3& c, const Vec3& x) {
+                const SurfacePoint sp = nodeOnBox(x - c, ext);
+                MemberPoint        m;
+                m.id       = id;
+                m.distance = sp.distance;
+                m.point    = sp.point + c;
+                m.onRim    = onBoxRim(sp.point, ext, tol);
+                return m;
+	};
+	int beaten[8], nb = 0;
+	// under the seam
+	MemberPoint a = hit(1, c1, Vec3(0.2, 0, -1.3)), b = hit(2, c2, Vec3(0.2, 0, -1.3));
+	EXPECT_TRUE(a.onRim && b.onRim);
+	EXPECT_TRUE(ownsOnUnion(a, &b, 1, tol, beaten, nb));
+	EXPECT_EQ(nb, 1);
+	EXPECT_FALSE(ownsOnUnion(b, &a, 1, tol, beaten, nb));
+	// under box 1, 0.1 from the seam: box 1's face carries it, box 2's seam edge is dropped
+	a = hit(1, c1, Vec3(0.2, -0.1, -1.3));
+	b = hit(2, c2, Vec3(0.2, -0.1, -1.3));
+	EXPECT_FALSE(a.onRim);
+	EXPECT_TRUE(b.onRim);
+	EXPECT_TRUE(ownsOnUnion(a, &b, 1, tol, beaten, nb));
+	EXPECT_FALSE(ownsOnUnion(b, &a, 1, tol, beaten, nb));
+	// an L: box 2 raised by 2 (its side face y = 0 rises above box 1's top face z = 1); a probe in the
+	// valley touches box 1's top and box 2's side: both faces
+	const Vec3 c3(0, 0.5, 2), x(0.2, -0.2, 1.3);
+	a                   = hit(1, c1, x);
+	const MemberPoint d = hit(2, c3, x);
+	EXPECT_FALSE(a.onRim);
+	EXPECT_FALSE(d.onRim);
+	EXPECT_TRUE(ownsOnUnion(a, &d, 1, tol, beaten, nb));
+	EXPECT_TRUE(ownsOnUnion(d, &a, 1, tol, beaten, nb));
+}
