@@ -1,5 +1,5 @@
 // yade-flex adapter: FlexElementEngine, the internal forces of all bonds and membranes
-// (GPL-2.0-or-later). Declaration: Flex.hpp.
+// (GPL-2.0-or-later). Declaration: FlexElementEngine.hpp.
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
@@ -351,7 +351,7 @@ void FlexElementEngine::action()
 			auto& el = static_cast<FlexNode&>(*(*scene->bodies)[nid]->shape).elements;
 			el.erase(std::remove(el.begin(), el.end(), id), el.end());
 		}
-		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see Flex.hpp)
+		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see FlexElementEngine.hpp)
 		scene->bodies->erase(id, false);                // erases its interactions too: no ghost element
 		++flexa::elementErasures();
 		rupturedIds.push_back(id);

@@ -6,7 +6,7 @@
 //                     three FlexNodes; constant-strain membrane (pkg/kernel/Membrane.hpp); no DOF
 //  - Bo1_FlexFacet_Aabb
 //  - Ig2_Sphere_FlexFacet_FlexContactGeom       face, edge and vertex regions; one contact where
-//                                               facets meet (ownership, see Flex.hpp)
+//                                               facets meet (ownership, see FlexContactGeom.hpp)
 //  - Ig2_FlexCylinder_FlexFacet_FlexContactGeom wire against lining
 //  - Ig2_FlexFacet_FlexFacet_FlexContactGeom    switches facet pairs off (neighbours and others:
 //                                               no facet-facet contact yet), erased at no cost

@@ -1,5 +1,5 @@
 // yade-flex adapter: FlexNewtonIntegrator, NewtonIntegrator for scenes with yade-flex elements
-// (GPL-2.0-or-later). Declaration: Flex.hpp.
+// (GPL-2.0-or-later). Declaration: FlexNewtonIntegrator.hpp.
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
 #include "FlexTuning.hpp"

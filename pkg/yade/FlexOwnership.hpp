@@ -62,7 +62,7 @@ namespace flexa {
 	}
 	/// Shear force (on body 2 of I) that the interaction between `otherBody` and one of the
 	/// `beaten` neighbours carried at the previous step, expressed for an interaction whose body 1
-	/// is id1. Only reads data its owner does not write this step (see Flex.hpp).
+	/// is id1. Only reads data its owner does not write this step (see FlexContactGeom.hpp).
 	inline bool takeOverShear(Scene* scene, Body::id_t otherBody, Body::id_t id1, const Body::id_t* beaten, int nBeaten, Vector3r& shear, Real& normal)
 	{
 		for (int k = 0; k < nBeaten; ++k) {
@@ -81,7 +81,7 @@ namespace flexa {
 		return false;
 	}
 	/// Common tail of every contact geometry functor: activity bookkeeping and shear take-over
-	/// (see Flex.hpp).
+	/// (see FlexContactGeom.hpp).
 	// Sphere contacts: the elements beaten in the sphere's cluster (their contacts with
 	// otherBody). Element-element contacts: the pairs of its cluster (A side = I's body 1; see
 	// flexa::ownsPair).

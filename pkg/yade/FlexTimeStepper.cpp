@@ -1,5 +1,5 @@
 // yade-flex adapter: FlexTimeStepper, the critical time step from bonds and contacts
-// (GPL-2.0-or-later). Declaration: Flex.hpp; the contact rows' derivation:
+// (GPL-2.0-or-later). Declaration: FlexTimeStepper.hpp; the contact rows' derivation:
 // pkg/kernel/ContactRows.hpp.
 #include "FlexStepperContacts.hpp"
 #include "FlexElements.hpp"
