@@ -156,13 +156,45 @@ namespace {
 	}
 } // namespace
 
+// One step: the cylinders' forces, the membranes' forces, the threads' sums merged, the bonded
+// neighbours' pairs erased, then the elements that ruptured this step erased.
 void FlexElementEngine::action()
 {
 	flexa::checkScene(scene, this);
 	if (scene->bodies->size() != cachedBodyCount) refresh(); // erased bodies are skipped below
 	flexa::checkWireMaterials(scene);
-	const long              n = (long)cylinders.size();
 	std::vector<Body::id_t> broken;
+	// the smallest and largest node id added to the threads' sinks: their merge visits only these
+	long sinkLo = std::numeric_limits<long>::max(), sinkHi = -1;
+	prepareSinks();
+	bondForces(broken, sinkLo, sinkHi);
+	if (!facets.empty()) facetForces(broken, sinkLo, sinkHi);
+	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size(), sinkHi < 0 ? 0 : sinkLo, sinkHi + 1);
+	eraseNeighbourPairs(scene);
+	if (!broken.empty()) rupture(broken);
+}
+
+// Element loops on several threads: their forces into each thread's own sums, added once per
+// body after both loops (flexa::ThreadForceSums; addForce from two threads at once contends).
+void FlexElementEngine::prepareSinks()
+{
+	sinks.clear();
+#ifdef YADE_OPENMP
+	if (((long)cylinders.size() >= parallelMin || (long)facets.size() >= parallelMin) && omp_get_max_threads() > 1) {
+		const int threads = omp_get_max_threads();
+		sums.prepare(threads, (long)scene->bodies->body.size());
+		for (int t = 0; t < threads; ++t)
+			sinks.push_back(sums.sink(t));
+	}
+#endif
+}
+
+// Every cylinder's bond forces (co-rotational beam or wire law, and a hooked knot's stop) to its
+// nodes, its state written back, its energy booked; the ruptured ones into broken.
+void FlexElementEngine::bondForces(std::vector<Body::id_t>& broken, long& lo, long& hi)
+{
+	long                    sinkLo = lo, sinkHi = hi; // (reduced over the threads)
+	const long              n        = (long)cylinders.size();
 	const bool              energy   = scene->trackEnergy;
 	const Material*         lastMat  = nullptr; // elements mostly share a material: cast it once
 	const FlexMat*          lastFlex = nullptr;
@@ -172,8 +204,6 @@ void FlexElementEngine::action()
 	// energies summed here and booked once per step (not twice per element)
 	Real eElastic = 0, ePlastic = 0, eReleased = 0;
 	long nPlastic = 0;
-	// the smallest and largest node id added to the threads' sinks: their merge visits only these
-	long sinkLo = std::numeric_limits<long>::max(), sinkHi = -1;
 	// Serial loop (below parallelMin, and always on one thread): forces and moments summed per
 	// node here and added to the ForceContainer once per node (each addForce costs a thread
 	// lookup and a size check)
@@ -183,17 +213,6 @@ void FlexElementEngine::action()
 #endif
 	const bool serial = !parallel;
 	const bool ahead  = serial && n >= flexa::kPrefetchMin;
-	// element loops on several threads: their forces into each thread's own sums, added once per
-	// body after both loops (flexa::ThreadForceSums; addForce from two threads at once contends)
-	sinks.clear();
-#ifdef YADE_OPENMP
-	if ((parallel || (long)facets.size() >= parallelMin) && omp_get_max_threads() > 1) {
-		const int threads = omp_get_max_threads();
-		sums.prepare(threads, nBodies);
-		for (int t = 0; t < threads; ++t)
-			sinks.push_back(sums.sink(t));
-	}
-#endif
 	if (serial) accF.assign(slotNode.size(), Vector3r::Zero()); // (accM: at the first element with moments)
 	bool anyMoment = false;
 #ifdef YADE_OPENMP
@@ -326,10 +345,15 @@ void FlexElementEngine::action()
 		if (nPlastic) flexa::addEnergy(scene, ePlastic, "flexBondPlastic", plastIx, false);
 		if (eReleased != 0) flexa::addEnergy(scene, eReleased, "flexRupture", ruptIx, false);
 	}
-	if (!facets.empty()) facetForces(broken, sinkLo, sinkHi);
-	if (!sinks.empty()) flexa::mergeThreadSums(scene, sums, (int)sinks.size(), sinkHi < 0 ? 0 : sinkLo, sinkHi + 1);
-	eraseNeighbourPairs(scene);
-	if (broken.empty()) return;
+	lo = sinkLo;
+	hi = sinkHi;
+}
+
+// The elements that ruptured this step erased with their bodies (their nodes keep their mass):
+// the energy they and their contacts held booked to flexRupture, hooked knots on them let go.
+void FlexElementEngine::rupture(std::vector<Body::id_t>& broken)
+{
+	const bool energy = scene->trackEnergy;
 	std::sort(broken.begin(), broken.end()); // same order whatever the thread count
 	for (Body::id_t id : broken) {
 		const flexa::Element e = flexa::elementOf(scene, id);

@@ -36,7 +36,11 @@ class FlexElementEngine : public GlobalEngine {
 	std::vector<Link> links;
 	static Link       linkOf(const Scene* scene, const Body* b); // all null if not computable
 	void              refresh();
-	void              facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi); // membranes (FlexFacet); [lo, hi]: the node ids added to the sinks
+	// the passes of a step (action), in this order; [lo, hi]: the node ids added to the sinks
+	void              prepareSinks();
+	void              bondForces(std::vector<Body::id_t>& broken, long& lo, long& hi); // cylinders (FlexCylinder)
+	void              facetForces(std::vector<Body::id_t>& broken, long& lo, long& hi); // membranes (FlexFacet)
+	void              rupture(std::vector<Body::id_t>& broken);
 	void              releaseHooks(const FlexCylinder& leg, bool energy); // hooked knots whose bend loses this leg let go
 
 public:
