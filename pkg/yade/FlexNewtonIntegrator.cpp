@@ -173,6 +173,9 @@ Real FlexNewtonIntegrator::driveWork()
 	return sum;
 }
 
+// One step: YADE's own integrator where the fast path does not apply (integrateWithYade), else
+// the node table brought up to date with the collider (updateNodeTable) and every moving body
+// integrated (integrate).
 void FlexNewtonIntegrator::action()
 {
 	flexa::checkScene(scene, this);
@@ -180,26 +183,38 @@ void FlexNewtonIntegrator::action()
 	if (scene->bodies->size() != cachedBodyCount) refresh();
 	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
 	if (!usedFastPath) {
-		// NewtonIntegrator books |v_i| |F_i + m g_i| c dt on every component of a damped body,
-		// blocked ones too, where no damping acts (a driven DOF): what it will book there, from
-		// the same velocities and forces, is taken back after it ran
-		const Real blockedDamping = scene->trackEnergy && damping != 0 && !scene->isPeriodic ? dampingOnBlockedDofs() : 0;
-		const Real drive          = scene->trackEnergy ? (scene->forces.sync(), driveWork()) : 0;
-		NewtonIntegrator::action();
-		if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
-		if (drive != 0) flexa::addEnergy(scene, drive, "driveWork", driveWorkIx, false);
-		flagElements();
-		// the motions it made, refused as the fast path refuses them (a pass of its own here)
-		for (const auto& b : *scene->bodies)
-			if (b && !b->isClumpMember() && !flexa::motionValid(*b->state))
-				flexa::refuseIntegrated(scene, b->id, scene->forces.getForce(b->id), scene->forces.getTorque(b->id));
-		flexa::vouchedStep() = { scene, scene->iter };
+		integrateWithYade();
 		return;
 	}
 	scene->forces.sync();
-	const Real dt    = scene->dt;
-	const bool track = scene->trackEnergy;
-	const long runs  = flexa::insertionSortColliderRuns(scene);
+	updateNodeTable();
+	integrate();
+}
+
+// NewtonIntegrator::action, its energy booking corrected, the elements flagged and the motions
+// checked as the fast path does.
+void FlexNewtonIntegrator::integrateWithYade()
+{
+	// NewtonIntegrator books |v_i| |F_i + m g_i| c dt on every component of a damped body,
+	// blocked ones too, where no damping acts (a driven DOF): what it will book there, from
+	// the same velocities and forces, is taken back after it ran
+	const Real blockedDamping = scene->trackEnergy && damping != 0 && !scene->isPeriodic ? dampingOnBlockedDofs() : 0;
+	const Real drive          = scene->trackEnergy ? (scene->forces.sync(), driveWork()) : 0;
+	NewtonIntegrator::action();
+	if (blockedDamping != 0) scene->energy->add(-blockedDamping, "nonviscDamp", nonviscDampIx, false);
+	if (drive != 0) flexa::addEnergy(scene, drive, "driveWork", driveWorkIx, false);
+	flagElements();
+	// the motions it made, refused as the fast path refuses them (a pass of its own here)
+	for (const auto& b : *scene->bodies)
+		if (b && !b->isClumpMember() && !flexa::motionValid(*b->state))
+			flexa::refuseIntegrated(scene, b->id, scene->forces.getForce(b->id), scene->forces.getTorque(b->id));
+	flexa::vouchedStep() = { scene, scene->iter };
+}
+
+// The nodes' sweep table, rebuilt when the collider ran or an element was erased since.
+void FlexNewtonIntegrator::updateNodeTable()
+{
+	const long runs = flexa::insertionSortColliderRuns(scene);
 	if (runs < 0)
 		nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
 	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
@@ -207,6 +222,14 @@ void FlexNewtonIntegrator::action()
 		tableRuns     = runs;
 		tableErasures = flexa::elementErasures();
 	}
+}
+
+// Every moving body one leap-frog step (kernel/LeapFrog.hpp), its energy terms summed and booked
+// once, the collider's trigger from the nodes' table (or YADE's per-body sweep).
+void FlexNewtonIntegrator::integrate()
+{
+	const Real      dt     = scene->dt;
+	const bool      track  = scene->trackEnergy;
 	const bool      byNode = nodeTableOk;
 	const Real*     nSweep = nodeSweep.data();
 	const Vector3r* nRef   = nodeRef.data();

@@ -23,6 +23,10 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	Real                  dampingOnBlockedDofs(); // what NewtonIntegrator books on blocked DOFs this step [J]
 	Real                  driveWork();            // booked for the driven DOFs this step (flex::driveWork) [J]
 	int                   driveWorkIx = -1;
+	// the passes of a step (action)
+	void integrateWithYade(); // where the fast path does not apply
+	void updateNodeTable();
+	void integrate(); // the fast path
 
 public:
 	void action() override;
