@@ -220,6 +220,24 @@ namespace {
 	}
 } // namespace
 
+bool membraneApartFromBox(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext, double reach)
+{
+	for (int a = 0; a < 3; ++a) {
+		const double lim = ext[a] + reach;
+		if ((x0[a] > lim && x1[a] > lim && x2[a] > lim) || (x0[a] < -lim && x1[a] < -lim && x2[a] < -lim)) return true;
+	}
+	return false;
+}
+
+bool membraneApartFromTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& a, const Vec3& b, const Vec3& c, double reach)
+{
+	const Vec3 n = (b - a).cross(c - a);
+	const double len = n.norm();
+	if (!(len > 0)) return false;
+	const double d0 = n.dot(x0 - a) / len, d1 = n.dot(x1 - a) / len, d2 = n.dot(x2 - a) / len;
+	return (d0 > reach && d1 > reach && d2 > reach) || (d0 < -reach && d1 < -reach && d2 < -reach);
+}
+
 TriangleEdge boxEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext)
 {
 	Vec3 edges[12][2];

@@ -101,6 +101,12 @@ struct TriangleEdge {
 	double   distance = 0;
 	unsigned support  = 7; ///< a rigid triangle: its vertices carrying `point`; a box: 7
 };
+/// Conservative separation tests of a membrane (x0, x1, x2) from a surface (see
+/// segmentTriangleApart): true only if no point of it comes within reach of the surface: all three
+/// nodes beyond one face plane of the box (in its frame, half-sizes ext), or beyond reach on one
+/// side of the triangle (a, b, c)'s plane. False says nothing.
+bool membraneApartFromBox(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext, double reach);
+bool membraneApartFromTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& a, const Vec3& b, const Vec3& c, double reach);
 /// The box of half-sizes ext at the origin against the membrane (x0, x1, x2) in the box's frame.
 TriangleEdge boxEdgesOnTriangle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& ext);
 /// The rigid triangle (a, b, c) (YADE's Facet) against the membrane (x0, x1, x2).

@@ -341,13 +341,14 @@ namespace {
 	// (kernel/Surface.hpp, TriangleEdge), as an element pair of flexa::elementGeom. where(x):
 	// the surface's contact with the membrane (x: its nodes' positions) in the world frame;
 	// rimOwns(e, beaten, nb): the surface's side of the ownership (a surface of facets).
-	template <class Where, class RimOwns> struct SurfaceMembrane {
+	template <class Where, class RimOwns, class Apart> struct SurfaceMembrane {
 		Scene*             scene;
 		const Interaction& I;
 		const State&       sS;
 		const FlexFacet&   fa;
 		Where              where;
 		RimOwns            rimOwns;
+		Apart              apartFrom; // apartFrom(x): a conservative separation test (a new pair only)
 		flexa::FacetNodes  fn;
 		flex::TriangleEdge e;
 		// the contacts this one may take over (flexa::takeOverPairShear: surface id, membrane id):
@@ -356,7 +357,7 @@ namespace {
 		std::pair<Body::id_t, Body::id_t> pairs[8];
 		int                               nPairs = 0;
 		bool               bonded() const { return false; }
-		bool               apart() const { return false; }
+		bool               apart() const { return apartFrom(fn.x); }
 		bool               load() { return fn.load(scene, fa, Vector3r::Zero()); }
 		Real               closest()
 		{
@@ -414,10 +415,11 @@ namespace {
 		}
 		void finish(FlexContactGeom& g, bool own) { flexa::finishGeom(scene, g, own, &I, I.getId2(), nullptr, 0, pairs, nPairs); }
 	};
-	template <class Where, class RimOwns>
-	SurfaceMembrane<Where, RimOwns> surfaceMembrane(Scene* scene, const Interaction& I, const State& sS, const FlexFacet& fa, Where where, RimOwns rimOwns)
+	template <class Where, class RimOwns, class Apart>
+	SurfaceMembrane<Where, RimOwns, Apart>
+	surfaceMembrane(Scene* scene, const Interaction& I, const State& sS, const FlexFacet& fa, Where where, RimOwns rimOwns, Apart apart)
 	{
-		return SurfaceMembrane<Where, RimOwns> { scene, I, sS, fa, where, rimOwns };
+		return SurfaceMembrane<Where, RimOwns, Apart> { scene, I, sS, fa, where, rimOwns, apart };
 	}
 } // namespace
 
@@ -437,11 +439,16 @@ bool Ig2_Box_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const s
 	const auto inClump = [&](const flex::TriangleEdge& e, Body::id_t* beaten, int& nb) {
 		return clumpOwns(scene, flexa::bodyAt(scene, I->getId1()), e.onTriangle, e.point, e.distance, beaten, nb);
 	};
-	auto p = surfaceMembrane(scene, *I, sS, static_cast<const FlexFacet&>(*cm2), where, inClump);
+	const FlexFacet& fa    = static_cast<const FlexFacet&>(*cm2);
+	const auto       apart = [&](const Vector3r* x) {
+                const Quaternionr q = sS.ori.conjugate();
+                return flex::membraneApartFromBox(q * (x[0] - sS.pos), q * (x[1] - sS.pos), q * (x[2] - sS.pos), box.extents, fa.radius);
+	};
+	auto p = surfaceMembrane(scene, *I, sS, fa, where, inClump, apart);
 	return flexa::elementGeom(scene, I, force, p);
 }
 
-bool Ig2_Facet_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>&, const shared_ptr<Shape>& cm2, const State& sS, const State&,
+bool Ig2_Facet_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>& cm1, const shared_ptr<Shape>& cm2, const State& sS, const State&,
         const Vector3r& shift2, const bool& force, const shared_ptr<Interaction>& I)
 {
 	if (scene->isPeriodic) throw std::runtime_error("Ig2_Facet_FlexFacet_FlexContactGeom: periodic scenes are not supported by yade-flex yet.");
@@ -454,10 +461,10 @@ bool Ig2_Facet_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>&, const sha
 	int                ids[kMaxFacets];
 	flex::TriangleEdge edge[kMaxFacets];
 	flex::FacetHit     hit[kMaxFacets];
-	int                me = -1;
-	const int          n  = facetsPairedWith(scene, membrane, I->getId1(), tri, ids, me);
-	const auto where = [&](const Vector3r* x) {
-		if (me < 0) return flex::TriangleEdge();
+	int                me = -1, n = 0;
+	const auto         where = [&](const Vector3r* x) { // (after the separation test of a new pair)
+                n = facetsPairedWith(scene, membrane, I->getId1(), tri, ids, me);
+                if (me < 0) return flex::TriangleEdge();
 		flex::membraneOnFacets(x[0], x[1], x[2], fa.radius, tri, ids, n, edge, hit);
 		return edge[me];
 	};
@@ -470,7 +477,10 @@ bool Ig2_Facet_FlexFacet_FlexContactGeom::go(const shared_ptr<Shape>&, const sha
 			beaten[k] = got[k];
 		return o;
 	};
-	auto p = surfaceMembrane(scene, *I, sS, fa, where, rimOwns);
+	Vector3r v[3];
+	facetVertices(static_cast<const Facet&>(*cm1), sS, v);
+	const auto apart = [&](const Vector3r* x) { return flex::membraneApartFromTriangle(x[0], x[1], x[2], v[0], v[1], v[2], fa.radius); };
+	auto       p     = surfaceMembrane(scene, *I, sS, fa, where, rimOwns, apart);
 	return flexa::elementGeom(scene, I, force, p);
 }
 

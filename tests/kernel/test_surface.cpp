@@ -414,3 +414,18 @@ TEST(Surface, AClumpOfBoxesMeetsAProbeOncePerPointOfItsSurface)
 	EXPECT_TRUE(ownsOnUnion(a, &d, 1, tol, beaten, nb));
 	EXPECT_TRUE(ownsOnUnion(d, &a, 1, tol, beaten, nb));
 }
+
+// The separation tests only say "apart" where no point of the membrane comes within reach.
+TEST(Surface, MembraneApartTestsAreConservative)
+{
+	const Vec3 ext(1, 1, 1);
+	EXPECT_TRUE(membraneApartFromBox(Vec3(-3, -3, 1.2), Vec3(3, -3, 1.3), Vec3(0, 3, 1.25), ext, 0.1));
+	EXPECT_FALSE(membraneApartFromBox(Vec3(-3, -3, 1.05), Vec3(3, -3, 1.3), Vec3(0, 3, 1.25), ext, 0.1)); // a node within reach
+	// a sheet over the box corner, its nodes far out: not apart (the corner is near its middle)
+	const Vec3 n = Vec3(1, 1, 1).normalized(), t = n.unitOrthogonal(), s = n.cross(t), c = Vec3(1, 1, 1) + 0.05 * n;
+	EXPECT_FALSE(membraneApartFromBox(c + 4 * t, c - 2 * t + 3 * s, c - 2 * t - 3 * s, ext, 0.1));
+	const Vec3 a(0, 0, 0), b(1, 0, 0), cc(0, 1, 0);
+	EXPECT_TRUE(membraneApartFromTriangle(Vec3(5, 5, 0.2), Vec3(-5, 5, 0.3), Vec3(0, -5, 0.25), a, b, cc, 0.1));
+	EXPECT_FALSE(membraneApartFromTriangle(Vec3(5, 5, 0.2), Vec3(-5, 5, -0.3), Vec3(0, -5, 0.25), a, b, cc, 0.1)); // crosses the plane
+	EXPECT_FALSE(membraneApartFromTriangle(Vec3(5, 5, 0.05), Vec3(-5, 5, 0.3), Vec3(0, -5, 0.25), a, b, cc, 0.1));
+}
