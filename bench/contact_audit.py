@@ -50,11 +50,7 @@ def main():
     def carried():
         """{(id1, id2): (normal force on side 2, spring energy, overlap ratio)} of the contacts carrying a force now."""
         out = {}
-        for i in O.interactions:
-            g = i.geom
-            if g is None or not hasattr(g, "onsetDepth") or not g.active or i.phys is None:
-                continue
-            ph = i.phys
+        for i, g, ph in tearing_scene.carrying(O.interactions):
             spring = ph.normalForce.norm()
             cross = g.crossForce - spring if g.crossIter == O.iter else 0.0
             held = 0.5 * ph.kn * max(0.0, g.penetrationDepth - g.plasticOverlap) ** 2 if getattr(g, "pierced", False) else 0.5 * spring * spring / ph.kn  # (pierced: no force, see FlexContactGeom.pierced)

@@ -41,11 +41,8 @@ def main():
 
     def carried():
         out = {}
-        for i in O.interactions:
-            g = i.geom
-            if g is None or not hasattr(g, "onsetDepth") or not g.active or i.phys is None:
-                continue
-            out[(i.id1, i.id2)] = 0.0 if getattr(g, "pierced", False) else 0.5 * i.phys.normalForce.norm() ** 2 / i.phys.kn
+        for i, g, ph in tearing_scene.carrying(O.interactions):
+            out[(i.id1, i.id2)] = 0.0 if getattr(g, "pierced", False) else 0.5 * ph.normalForce.norm() ** 2 / ph.kn
         return out
 
     def beside(c, body, other):

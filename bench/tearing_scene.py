@@ -53,3 +53,12 @@ def append_rows(path, cols, rows):
         if new:
             w.writeheader()
         w.writerows(rows)
+
+
+def carrying(interactions):
+    """The contacts of yade-flex carrying a force now: (interaction, FlexContactGeom, phys)."""
+    for i in interactions:
+        g = i.geom
+        if g is None or not hasattr(g, "onsetDepth") or not g.active or i.phys is None:
+            continue
+        yield i, g, i.phys
