@@ -18,4 +18,8 @@ NormalSpring normalSpring(double k, double depth, double offset, bool pierced)
 	return s;
 }
 
+double releasedEnergy(double force, double d) { return 0.5 * force * std::max(0.0, d); }
+
+double takenOverEnergy(double force, double d, double approach, double dt) { return 0.5 * force * std::max(0.0, d - approach * dt); }
+
 } // namespace flex

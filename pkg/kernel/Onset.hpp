@@ -15,6 +15,17 @@
 // overlap is the reach wherever the wire goes while it pierces. A force there would work with
 // no change of the spring's energy (energy from nothing, or lost), so the spring carries none
 // and holds the energy it had when the wire got there; it gives it back as the wire comes out.
+//
+// The energy that goes with a hand-over. Leap-frog keeps H = 1/2 v(n-1/2) M v(n+1/2) + U(x_n)
+// constant while every force is integrated exactly by the trapezoid rule (kernel/Crossing.hpp).
+// A contact that ends at step n+1 while overlapping had force F_n at x_n and none at x_n+1: H
+// loses 1/2 F_n d_n+1 (d the overlap beyond the offset), what the contact takes with it. A
+// contact that starts at step n+1 by taking over a force F has energy 1/2 F d_n+1 at once, of
+// which the trapezoid puts only 1/2 F (d_n+1 - approach dt) into H from the bodies: it brings
+// 1/2 F (d_n+1 - approach dt). Booked as they happen, a hand-over nets to F (d_n+1 - d_n), the
+// work the successor's force skips by starting where its predecessor stood a step earlier, and
+// two contacts merging into one leave the spring of the one that ended: H plus the booked terms
+// stays constant.
 #pragma once
 
 namespace flex {
@@ -34,5 +45,14 @@ struct NormalSpring {
 /// k max(0, depth - offset), energy 1/2 k max(0, depth - offset)^2; while pierced, no force
 /// and the same energy.
 NormalSpring normalSpring(double k, double depth, double offset, bool pierced);
+
+/// Energy [J] a contact takes with it when it ends at overlap beyond its offset d [m] (this
+/// step's) after carrying normal force F [N] at its last step: 1/2 F max(0, d).
+double releasedEnergy(double force, double d);
+
+/// Energy [J] a contact brings when it starts by taking over its predecessor's force: force F
+/// [N] at overlap beyond its offset d [m], approaching at speed approach [m/s] over step dt [s]:
+/// 1/2 F max(0, d - approach dt).
+double takenOverEnergy(double force, double d, double approach, double dt);
 
 } // namespace flex

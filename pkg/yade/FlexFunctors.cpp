@@ -390,8 +390,15 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 			const Real kr = rollingK(g, p);
 			if (kr > 0) flexa::addEnergy(scene, 0.5 * g.rollMoment.squaredNorm() / kr, "flexRolling", rollIx, false);
 		}
-		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) // ended while overlapping (see deepEndings)
-			tally(deepEndings, deepEndingEnergy, flex::normalSpring(p.kn, g.penetrationDepth, g.plasticOverlap, g.pierced).energy);
+		if (g.lastActiveIter == scene->iter - 1 && g.penetrationDepth > 0) { // ended while overlapping (see deepEndings)
+			const Real e = flex::normalSpring(p.kn, g.penetrationDepth, g.plasticOverlap, g.pierced).energy;
+			tally(deepEndings, deepEndingEnergy, e);
+			// its spring leaves with it (kernel/Onset.hpp; p holds its last step's force): lost,
+			// unless a neighbour takes its force over and books it back (below)
+			if (scene->trackEnergy)
+				flexa::addEnergy(scene, g.pierced ? e : flex::releasedEnergy(p.normalForce.norm(), g.penetrationDepth - g.plasticOverlap), "flexHandover",
+				                 handIx, false);
+		}
 		// separated (not handed over): the crossing correction runs on for two steps, its force
 		// on the bodies only (the interaction's own data stay as they were, for the neighbours)
 		bool crossingOn = false;
@@ -413,10 +420,12 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	// that starts from a gap, or one of the scene as built (its first step), starts with none.
 	const bool element = g.nodes1[0] >= 0 || g.nodes2[0] >= 0 || g.tri1[0] >= 0 || g.tri2[0] >= 0;
 	if (g.handover && element) g.plasticOverlap = 0;
+	bool takesOver = false; // a deep onset taking over a neighbour's force
 	if (g.onsetDepth > 0) {
 		const Real approach = std::max(Real(0), -g.normal.dot(g.relVel)) * scene->dt;
 		if (g.onsetDepth > onsetFactor * approach) {
 			if (element && g.handoverNormal >= 0) g.plasticOverlap = flex::onsetOffset(p.kn, g.onsetDepth, g.handoverNormal);
+			takesOver = element && g.handoverNormal > 0;
 			tally(deepOnsets, deepOnsetEnergy, flex::normalSpring(p.kn, g.onsetDepth, g.plasticOverlap, false).energy);
 		} else
 			g.onsetDepth = 0; // a normal onset
@@ -429,6 +438,12 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
 	const flex::FrictionalContact fc { p.kn, p.ks, p.tangensOfFrictionAngle };
 	const flex::NormalSpring      spring = flex::normalSpring(p.kn, g.penetrationDepth, element ? g.plasticOverlap : 0, g.pierced);
+	// a contact that took over a neighbour's force books back what it brings (kernel/Onset.hpp)
+	if (takesOver && scene->trackEnergy) {
+		const Real d       = g.penetrationDepth - g.plasticOverlap;
+		const Real brought = g.pierced ? spring.energy : flex::takenOverEnergy(spring.force, d, -g.normal.dot(g.relVel), scene->dt);
+		flexa::addEnergy(scene, -brought, "flexHandover", handIx, false);
+	}
 	Real                          Fn     = spring.force, crushWork = 0;
 	if (crushingIs50 > 0 && g.nodes1[0] < 0 && g.nodes2[0] < 0 && g.tri1[0] < 0 && g.tri2[0] < 0) { // two spheres
 		const Real              limit = flex::pointLoadFailure(2 * std::min(g.refR1, g.refR2), crushingIs50);

@@ -312,17 +312,21 @@ def _ridge_sheet_depth(s):
 # until its nodes reached the slopes 29 mm below the ridge) and never reaches the midplane. The
 # ridge lies along the sheet, a line contact carried at the point of each facet nearest the ridge:
 # as the sheet drapes those points merge at the facets' shared edges and part again, and a
-# merging contact's spring goes with it, so energy is lost (README, current limits), never made.
+# merging contact's spring goes with it (README, current limits). That energy is booked as it
+# goes ('flexHandover': lost, never made), so undamped the balance closes to 1% of the gravity
+# work done on the sheet at every step.
 def test_a_sheet_meets_a_ridge_of_facets_between_its_nodes(scene):
     s = scenes.net_on_ridge(drop=0.005, structure="sheet")
     O.trackEnergy = True
     yf.step_until(math.inf, 1)
     tot0 = O.energy.total()
-    gain, deepest = 0.0, -math.inf
+    worst, made, deepest = 0.0, 0.0, -math.inf
     while O.time < 0.08:
         yf.step_until(math.inf, 1)
-        gain = max(gain, O.energy.total() - tot0)
+        worst = max(worst, abs(O.energy.total() - tot0))
+        made = max(made, -O.energy["flexHandover"] if "flexHandover" in O.energy.keys() else 0.0)
         deepest = max(deepest, _ridge_sheet_depth(s))
     work = -O.energy["gravWork"]
     assert deepest < 0, f"the ridge passed {1000 * deepest:.2f} mm through the sheet's midplane"
-    assert work > 0 and gain <= 0.01 * work, f"energy created: {gain:.2e} J = {100 * gain / work:.2f}% of the gravity work {work:.2e} J"
+    assert work > 0 and worst <= 0.01 * work, f"energy residual {worst:.2e} J = {100 * worst / work:.2f}% of the gravity work {work:.2e} J"
+    assert made <= 1e-3 * work, f"contact hand-overs made {made:.2e} J = {100 * made / work:.2f}% of the gravity work"
