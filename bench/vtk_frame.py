@@ -1,4 +1,4 @@
-# Cost of one VTK frame of the damping-module impact (yadeflex.output.VtkRecorder), per group,
+# Cost of one VTK frame of the damping-module impact (yadeflex.vtk_frames.VtkRecorder), per group,
 # against the time of the steps between two frames (GPL-2.0-or-later).
 #
 #     yade-double -n -x bench/vtk_frame.py [--small] [--reps 5] [--steps 200] [--out bench/results/vtk_frame.csv]
@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 
 from yade import O  # noqa: E402
 
-import yadeflex.output as YO  # noqa: E402
+import yadeflex.vtk_frames as YO  # noqa: E402
 from yadeflex.module import ModuleParams, impact_start  # noqa: E402
 
 

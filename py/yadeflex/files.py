@@ -86,7 +86,7 @@ class CsvStream:
     first appear, then `last`. A row with a key not seen before rewrites the file with the wider
     header (earlier rows get `missing` in the new column); rows are kept for that (and for the
     caller: .rows). units: column -> unit, or a function of the column: the header reads
-    NAME[UNIT] (yadeflex.output.read_csv splits it); rows are keyed by the bare names."""
+    NAME[UNIT] (yadeflex.energy_csv.read_csv splits it); rows are keyed by the bare names."""
 
     def __init__(self, path, first=(), last=(), missing="", units=None):
         self.path, self.first, self.last, self.missing = path, list(first), list(last), missing

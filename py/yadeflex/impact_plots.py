@@ -3,15 +3,7 @@ impact.png (forces on the boulder and the slab, penetration, bulging, ring and r
 energy.png (the energy terms and the balance residual)."""
 import os
 
-
-def term_colors(n):
-    """n colours, no two alike: matplotlib's tab10, then tab20's light shades (up to 20), then
-    hues around the circle."""
-    import matplotlib
-    base = list(matplotlib.colormaps["tab10"].colors) + list(matplotlib.colormaps["tab20"].colors[1::2])
-    if n <= len(base):
-        return base[:n]
-    return [matplotlib.colors.hsv_to_rgb((k / n, 0.8, 0.8)) for k in range(n)]
+from .plots import term_colors
 
 
 def term_styles(n):

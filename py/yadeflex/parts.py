@@ -1,4 +1,4 @@
-"""Which part of a structure each body is: the part ids of the VTK series (yadeflex.output), the
+"""Which part of a structure each body is: the part ids of the VTK series (yadeflex.vtk_frames), the
 colours of the 3D view (yadeflex.view) and of the ParaView macro (yadeflex/paraview/), the kinds
 of contact.
 

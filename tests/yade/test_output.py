@@ -451,14 +451,15 @@ def test_vtk_frames_written_by_several_processes_are_the_same_files(scene, tmp_p
     with pytest.raises(OSError, match="VTK could not write .*No such file"):
         one()
     # a child that fails: its message reaches this process
-    parent, write = os.getpid(), yf.output._write_vtu
+    import yadeflex.vtk_frames as frames
+    parent, write = os.getpid(), frames._write_vtu
 
     def fails_in_a_child(*args):
         if os.getpid() != parent:
             raise RuntimeError("disk gone in the child")
         write(*args)
 
-    monkeypatch.setattr(yf.output, "_write_vtu", fails_in_a_child)
+    monkeypatch.setattr(frames, "_write_vtu", fails_in_a_child)
     rec = yf.VtkRecorder(str(out), workers=2, batch=10)
     rec()
     with pytest.raises(OSError, match="child process failed: RuntimeError: disk gone in the child"):
@@ -580,7 +581,7 @@ def test_snapshot_elements_are_the_shapes_fields(scene):
     """FlexSnapshot.elements (the VTK frames' element arrays) gives each element's id, node ids and
     fields as its shape's attributes, in id order; another group is refused by name."""
     from yade.wrapper import FlexSnapshot
-    import yadeflex.output as out
+    import yadeflex.vtk_frames as out
     mat = yf.steel(tensile_strength=400e6)
     for build, code, kind, attrs, fields, load in (
             (lambda: S.cantilever(segments=4, length=0.3, radius=0.002, load="axial", force=50.0, material=mat),

@@ -11,7 +11,7 @@ which starts a virtual display of its own). RUN is a results folder of the main
 job (its vtk/flex.pvd; timeseries.csv and summary.json for --time peak) or a .pvd file. In the
 ParaView GUI: View > Python Shell > Run Script, then open_run("RUN") in the shell.
 
-What is shown (yadeflex/output.py describes the files; yadeflex/parts.py the parts):
+What is shown (yadeflex/vtk_frames.py describes the files; yadeflex/parts.py the parts):
 - wires (mesh legs, rings, rope) as tubes, coloured by axial force [N] (--color force, the
   default; cool to warm, symmetric about 0) or in their part's colour (--color part); broken
   elements are left out;
