@@ -45,10 +45,9 @@ from yade.wrapper import (Bo1_Facet_Aabb, Bo1_Sphere_Aabb, Bo1_Wall_Aabb, ForceR
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack, NewtonIntegrator)
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, fill_radii, G  # noqa: E402
+from yadeflex.constants import G  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, fill_radii  # noqa: E402
 from machine import machine_line  # noqa: E402
-
-SMALL = dict(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
 
 
 def parse():
@@ -65,7 +64,7 @@ def parse():
     for k in ("reps", "window", "warmup"):
         if getattr(a, k) < 1:
             ap.error(f"--{k} must be positive")
-    return a, ModuleParams(**SMALL) if a.small else ModuleParams()
+    return a, ModuleParams.small() if a.small else ModuleParams()
 
 
 def grains_of(p, cache_dir):

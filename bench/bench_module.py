@@ -39,7 +39,8 @@ from yade import O  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, touches, G  # noqa: E402
+from yadeflex.constants import G  # noqa: E402
+from yadeflex.module import ModuleParams, filled_module, add_boulder, fill_top, touches  # noqa: E402
 import builtin_module as bm  # noqa: E402
 from yadeflex.scene import step_until  # noqa: E402
 

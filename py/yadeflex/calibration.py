@@ -28,7 +28,8 @@ from yade.wrapper import FrictMat, Sphere
 
 from . import checks as C
 from .scene import step_until
-from .module import FILLS, LIMITS, UNBALANCED_TOL, G, check_fill, settle_grains, fill_engines, _settle
+from .constants import G
+from .module import FILLS, LIMITS, UNBALANCED_TOL, check_fill, settle_grains, fill_engines, _settle
 
 # the heap's flank: the part of the surface profile between these fractions of its height
 # (the crest is rounded by the last grains to stop, the toe by the grains that rolled out)

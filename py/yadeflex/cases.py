@@ -8,10 +8,10 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 from . import checks as C
+from .constants import G
 from . import scenes as S
 from .materials import steel
 
-G = 9.81  # [m/s2] gravity of the scenes
 
 
 def _circle_I(r):

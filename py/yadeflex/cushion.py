@@ -16,8 +16,8 @@ All three rest on Hertz's elastic impact, peak force ~ (mass x height)^(3/5):
 import math
 
 from . import checks as C
+from .constants import G
 
-G = 9.81  # [m/s2]
 
 
 def labiouse_1996(mass, height, radius, M_E):

@@ -22,10 +22,13 @@ import traceback
 from yade import O
 from yade.minieigenHP import Vector3
 
+from . import checks as C
 from .files import CsvStream, ResultsFolder, overwrite_json, write_failure, write_json
 from .impact_plots import write_plots
-from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, G, UNBALANCED_TOL
+from .constants import G
+from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, UNBALANCED_TOL
 from .output import VtkRecorder
+from .params import param, RUN
 from .parts import scene_parts
 from .scene import contact_law, step_until
 from .errors import Unstable
@@ -221,16 +224,28 @@ def fill_progress(t_wall):
     return prog
 
 
+_RUN = ImpactTimes.MAX_AFTER_CONTACT
+
+
 @dataclasses.dataclass
 class RunSettings:
-    """How the impact is run and judged: the main job's run options (their ranges:
-    yadeflex.module_cli.RUN_LIMITS)."""
-    duration: float = None         # [s] simulated time after the first contact; None: until the rebound + ImpactTimes' margin
-    record_every: float = 2e-4     # [s] time-series interval (timeseries.csv, energy.csv)
-    vtk_every: float = 1e-3        # [s] VTK frame interval: a tenth of the shortest force pulse expected (10 ms), so the peak is in the frames
-    no_vtk: bool = False           # no VTK time series
-    min_dt_fraction: float = 0.01  # [-] stop when the time step falls below this fraction of its value at impact; 0: never
-    max_residual: float = 0.02     # [-] largest accepted energy-balance residual, fraction of the impact energy (else EXIT["residual"])
+    """How the impact is run and judged: the main job's run options, each declared once
+    (yadeflex.params)."""
+    duration: float = param(None, unit="s", stage=RUN, row="duration",
+                            default_text=f"until the rebound + {100 * ImpactTimes.REBOUND_MARGIN:g}%, at most {_RUN:g} s",
+                            meaning="simulated time after the first contact",
+                            allowed=C.Range(0.0, 2.0, "s", lo_open=True))
+    record_every: float = param(2e-4, unit="s", stage=RUN, row="duration", meaning="time-series interval (timeseries.csv, energy.csv)",
+                                allowed=C.Range(1e-6, 1e-3, "s", note="at most duration/10: the impact force pulse lasts 10-50 ms "
+                                                "and its peak needs ten records or more"))
+    vtk_every: float = param(1e-3, unit="s", stage=RUN, row="duration", meaning="VTK frame interval, from the first contact",
+                             allowed=C.Range(1e-3, 2.0, "s", note=f"at most the run's length (--duration, else {_RUN:g} s): a frame per millisecond at most"))
+    no_vtk: bool = param(False, "flag", stage=RUN, row="duration", meaning="no VTK time series")
+    min_dt_fraction: float = param(0.01, unit="-", stage=RUN, meaning="stop when the time step falls below this fraction of its value at impact; 0: never",
+                                   allowed=C.Range(0.0, 1.0, hi_open=True))
+    max_residual: float = param(0.02, unit="-", stage=RUN, row="min_dt_fraction",
+                                meaning="largest accepted energy-balance residual, fraction of the impact energy (else the exit status says so)",
+                                allowed=C.Range(0.0, 1.0, lo_open=True))
 
 
 class ImpactRun:
@@ -552,8 +567,8 @@ class ImpactRun:
         law = self.law
         print(f"{s['status']} in {s['run_time_s']:.0f} s: peak force {self.peak_f / 1e3:.1f} kN, penetration {1e3 * s['penetration_max']:.0f} mm, "
               f"slab {s['slab_force_max'] / 1e3:.1f} kN, energy residual {100 * self.resid:.2f}% of {self.e_impact:.0f} J, "
-              f"contact hand-overs {law.deepOnsetEnergy - law.deepEndingEnergy:+.3g} J ({law.deepOnsets} started deep with "
-              f"{law.deepOnsetEnergy:.3g} J, {law.deepEndings} ended overlapping with {law.deepEndingEnergy:.3g} J); results in {self.folder.path}")
+              f"contact hand-overs {s['energy_end'].get('flexHandover', 0.0):.3g} J lost (flexHandover; {law.deepOnsets} started deep, "
+              f"{law.deepEndings} ended overlapping); results in {self.folder.path}")
         if s["exit_status"] == EXIT["residual"]:
             print(f"{PROG}: {s['message']}", file=sys.stderr)
 

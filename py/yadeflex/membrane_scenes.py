@@ -10,13 +10,14 @@ from yade.minieigenHP import Vector3
 
 from . import checks as C
 from . import membrane as M
+from .constants import G
 from .builders import fix, _positive, _section
 from .materials import FRICTION_DEG, _density
 from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args
 from .scenes import sphere
 
 
-def _check_square(n, size, damping=0.0, gravity=9.81, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
+def _check_square(n, size, damping=0.0, gravity=G, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
     """Arguments shared by the square scenes, checked before O.reset: n x n cells, size [m]."""
     n = C.integer("n", n, 1, C.MAX_BODIES)
     C.body_budget("n", n, 3.0 * (n + 1) * (n + 1) + 1)
@@ -123,7 +124,7 @@ def circular_membrane(rings=12, radius=0.5, pressure=100.0, stiffness=20e3, pois
 
 def sheet_impact(n=16, size=1.0, thickness=0.002, stiffness=250e3, areal_density=0.3, tension_only=True,
                  sphere_radius=0.1, sphere_density=2000.0, drop=0.01, friction_deg=30.0, damping=0.0,
-                 timestep_safety=DEFAULT_TIMESTEP_SAFETY, gravity=9.81):
+                 timestep_safety=DEFAULT_TIMESTEP_SAFETY, gravity=G):
     """Square sheet (n x n cells, clamped border, geotextile-like) and a sphere released
     `drop` [m] above it at its centre, under gravity."""
     _check_square(n, size, damping, gravity, timestep_safety)

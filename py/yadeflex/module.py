@@ -36,17 +36,18 @@ import sys
 import tempfile
 
 from yade import O
-from yade.minieigenHP import Vector3, Quaternion
-from yade.wrapper import Body, Sphere, Wall, FrictMat, FlexNode, FlexCylinder, FlexFacet, NewtonIntegrator
+from yade.minieigenHP import Vector3
+from yade.wrapper import Body, Sphere, FrictMat, FlexNode, NewtonIntegrator
 
 from . import builders as B
+from .constants import G
 from . import checks as C
 from . import membrane as M
 from .materials import FRICTION_DEG
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_DX, TECCO_G65_DY, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
-from .scene import engines, step_until, CRUSHING_IS50, DAMPING, ROLLING_FRICTION
+from .params import param, declared, IMPACT, FILL
+from .scene import engines, step_until, CRUSHING_IS50, DAMPING, ROLLING_FRICTION, TIMESTEP_SAFETY as SCENE_TIMESTEP_SAFETY
 
-G = 9.81
 # a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
 # as well as its kinetic energy negligible (bench/fill_equilibrium.py)
 UNBALANCED_TOL = 0.05
@@ -93,69 +94,72 @@ N_MODULES = (1, 3, 7)
 MAX_IMPACT_SPEED = 50.0  # [m/s]
 BOULDER_MIN_SIZE = 0.05  # [m] a smaller boulder is a grain (its members set a tiny time step)
 
-# Allowed values of the numeric parameters (ModuleParams.validate, the main job's --help); bounds
-# that depend on other parameters are checked in validate.
-LIMITS = dict(
-    diameter=C.Range(0.2, math.inf, "m", note="at least three cells around; at most the body budget allows"),
-    height=C.Range(0.1, math.inf, "m", note="at least two half-cells; at most the body budget allows"),
-    ring_bar_diameter=C.Range(0.004, 0.03, "m"),
-    lining_thickness=C.Range(0.0005, 0.01, "m", note="geotextiles are 1-10 mm thick"),
-    lining_gap=C.Range(0.0, math.inf, "m", note="below diameter/4"),
-    grain_min=C.Range(0.0, math.inf, "m", lo_open=True, note="grain_max/10 to grain_max"),
-    grain_max=C.Range(0.0, math.inf, "m", lo_open=True, note="at most diameter/4 and height/2; at least the body budget allows"),
-    fill_friction_deg=FRICTION_DEG,
-    rolling_friction=ROLLING_FRICTION,
-    fill_young=C.Range(1e6, 1e11, "Pa", note="softer grains sink into each other, stiffer ones shorten the step"),
-    grain_crushing_is50=CRUSHING_IS50,
-    fill_deposition_friction_deg=C.Range(0.0, 45.0, "deg", note="at most the fill's friction angle; 0: the densest fill"),
-    boulder_mass=C.Range(0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"),
-    boulder_density=C.Range(500.0, 2e4, "kg/m3"),
-    drop_height=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True, note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"),
-    impact_velocity=C.Range(0.0, MAX_IMPACT_SPEED, "m/s", lo_open=True),
-    damping=dataclasses.replace(DAMPING, note="local damping, from the boulder's first contact on: its free fall is undamped"),
-    settle_damping=C.Range(0.1, 1.0, hi_open=True, note="the fill settles under heavy damping"),
-    timestep_safety=C.Range(0.05, 1.0, note="x FlexTimeStepper's critical step"),
-    steel_contact_young=C.Range(1e8, 2e11, "Pa", note="up to steel's E"),
-    module_gap=C.Range(0.0, math.inf, "m", note="below the diameter"),
-    lining_node_mass=C.Range(0.0, 0.2, "kg", note="0: the lining's own mass; the mass added is reported (lining_mass_added)"),
-)
-
-# the reduced module: fast enough for tests and benchmarks (ModuleParams.small())
-SMALL = dict(diameter=0.4, height=0.3, grain_min=0.06, grain_max=0.08, boulder_mass=100.0, drop_height=1.0)
+TIMESTEP_SAFETY = dataclasses.replace(SCENE_TIMESTEP_SAFETY, lo=0.05, lo_open=False, note="x FlexTimeStepper's critical step; "
+                                      "the default module is stable to 1.86x (bench/STABILITY.md)")
 
 
 @dataclasses.dataclass
 class ModuleParams:
-    """Parameters of a damping-module impact (SI units)."""
-    diameter: float = 1.0            # [m] mesh cylinder diameter
-    height: float = 0.6              # [m] mesh cylinder height
-    ring_bar_diameter: float = 0.010  # [m] steel rings at top and bottom
-    lining: bool = True              # geotextile lining inside the mesh
-    lining_thickness: float = 0.002  # [m]
-    lining_gap: float = 0.01         # [m] clearance between mesh and lining at rest
-    fill: str = "gravel"             # one of FILLS
-    grain_min: float = None          # [m] override the preset
-    grain_max: float = None          # [m]
-    fill_friction_deg: float = None  # [deg]
-    rolling_friction: float = None   # [-] rolling resistance of the grains (override the preset; 0: none)
-    fill_young: float = None         # [Pa] contact modulus of the grains (override the preset)
-    grain_crushing_is50: float = None  # [Pa] point-load index Is(50) of the grains' rock during the impact: their contacts yield at its failure load (yadeflex.engines' crushing_is50); None: grains do not crush
-    fill_deposition_friction_deg: float = 0.0  # [deg] the grains' friction while they are densified (0: the densest fill; up to the fill's own friction: looser)
-    boulder_mass: float = 800.0      # [kg]
-    boulder_shape: str = "cube"      # 'cube' or 'sphere'
-    boulder_density: float = 2400.0  # [kg/m3] concrete
-    drop_height: float = 2.0         # [m] free fall of the boulder's lowest point onto the fill top
-    impact_velocity: float = None    # [m/s] instead of drop_height
-    impact_offset: tuple = (0.0, 0.0)  # [m] horizontal offset of the impact point from the axis
-    damping: float = 0.0             # [-] NewtonIntegrator local damping during the impact (not the boulder's free fall)
-    settle_damping: float = 0.7      # [-] local damping while settling (not part of the impact)
-    timestep_safety: float = 1.0     # [-] impact time step = this x FlexTimeStepper's critical-step estimate (default module stable to 1.86x, bench/STABILITY.md); the fill uses FILL_TIMESTEP_SAFETY
-    steel_contact_young: float = 2e10  # [Pa] contact modulus of wires and rings (their elements keep E = 200 GPa)
-    lining_node_mass: float = 0.02   # [kg] least mass of a lining node during the impact (mass scaling, scale_lining_nodes); 0: the lining's own mass
-    seed: int = 1
-    n_modules: int = 1               # [-] 1, 3 (in a row) or 7 (hexagonal cluster); the boulder hits the first (central) one
-    module_gap: float = 0.02         # [m] clear gap between neighbouring modules
-    rope: bool = None                # boundary rope (6x7 FC, 8 mm) around all modules at mid-height; default: with n_modules > 1
+    """Parameters of a damping-module impact (SI units), each declared once (yadeflex.params):
+    unit, allowed values, meaning, stage (fill: the filled module depends on it; impact: the
+    cached fill is hit with it) and its value in the reduced module (small())."""
+    diameter: float = param(1.0, unit="m", meaning="mesh cylinder diameter", small=0.4,
+                            allowed=C.Range(0.2, math.inf, "m", note="at least three cells around; at most the body budget allows"))
+    height: float = param(0.6, unit="m", meaning="mesh cylinder height", small=0.3, row="diameter",
+                          allowed=C.Range(0.1, math.inf, "m", note="at least two half-cells; at most the body budget allows"))
+    ring_bar_diameter: float = param(0.010, unit="m", meaning="bar of the steel rings at top and bottom", row="diameter",
+                                     allowed=C.Range(0.004, 0.03, "m"))
+    lining: bool = param(True, "boolean", meaning="geotextile lining inside the mesh")
+    lining_thickness: float = param(0.002, unit="m", meaning="its thickness", row="lining",
+                                    allowed=C.Range(0.0005, 0.01, "m", note="geotextiles are 1-10 mm thick"))
+    lining_gap: float = param(0.01, unit="m", meaning="its clearance from the mesh at rest", row="lining",
+                              allowed=C.Range(0.0, math.inf, "m", note="below diameter/4"))
+    fill: str = param("gravel", "choice", allowed=tuple(sorted(FILLS)), checker=lambda name, v: check_fill(v),
+                      meaning="fill preset (presets in --help; no crushable fill: `cellular_glass` is refused)")
+    grain_min: float = param(None, unit="m", meaning="smallest grain diameter", default_text="the preset's", small=0.06, row="fill",
+                             allowed=C.Range(0.0, math.inf, "m", lo_open=True, note="grain_max/10 to grain_max"))
+    grain_max: float = param(None, unit="m", meaning="largest grain diameter (gravel 0.032-0.063)", default_text="the preset's", small=0.08,
+                             row="fill", allowed=C.Range(0.0, math.inf, "m", lo_open=True,
+                                                         note="at most diameter/4 and height/2; at least the body budget allows"))
+    fill_friction_deg: float = param(None, unit="deg", meaning="grain friction angle", default_text="the preset's", allowed=FRICTION_DEG)
+    rolling_friction: float = param(None, unit="-", meaning="rolling resistance of the grains (0: none)", default_text="the preset's",
+                                    row="fill_friction_deg", allowed=ROLLING_FRICTION)
+    fill_young: float = param(None, unit="Pa", meaning="contact modulus of the grains", default_text="the preset's", row="fill_friction_deg",
+                              allowed=C.Range(1e6, 1e11, "Pa", note="softer grains sink into each other, stiffer ones shorten the step"))
+    grain_crushing_is50: float = param(None, unit="Pa", stage=IMPACT, default_text="none (grains do not crush)", row="fill_friction_deg",
+                                       meaning="point-load index Is(50) of the grains' rock: their contacts yield at its failure load during the impact",
+                                       allowed=CRUSHING_IS50)
+    fill_deposition_friction_deg: float = param(0.0, unit="deg", allowed=C.Range(0.0, 45.0, "deg", note="at most the fill's friction angle"),
+                                                meaning="grain friction while the fill is densified: 0 the densest fill, up to the fill's own angle a looser one")
+    boulder_mass: float = param(800.0, unit="kg", stage=IMPACT, meaning="boulder mass", small=100.0, allowed=C.Range(
+        0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"))
+    boulder_shape: str = param("cube", "choice", stage=IMPACT, allowed=BOULDER_SHAPES, row="boulder_mass",
+                               meaning="its shape: a cube (a rigid clump of 64 spheres with the cube's mass and inertia) or a sphere")
+    boulder_density: float = param(2400.0, unit="kg/m3", stage=IMPACT, meaning="its density (concrete)", row="boulder_mass",
+                                   allowed=C.Range(500.0, 2e4, "kg/m3"))
+    drop_height: float = param(2.0, unit="m", stage=IMPACT, meaning="free fall of the boulder's lowest point onto the fill top", small=1.0,
+                               allowed=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True,
+                                               note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"))
+    impact_velocity: float = param(None, unit="m/s", stage=IMPACT, meaning="or the impact speed", default_text="from --drop-height",
+                                   row="drop_height", allowed=C.Range(0.0, MAX_IMPACT_SPEED, "m/s", lo_open=True))
+    impact_offset: tuple = param((0.0, 0.0), "pair", unit="m", stage=IMPACT, meaning="horizontal offset of the impact from the axis, within the module's radius")
+    damping: float = param(0.0, unit="-", stage=IMPACT, meaning="numerical (local) damping from the boulder's first contact (the free fall is undamped)",
+                           allowed=dataclasses.replace(DAMPING, note="local damping"))
+    settle_damping: float = param(0.7, unit="-", meaning="local damping while the fill settles (not part of the impact)",
+                                  allowed=C.Range(0.1, 1.0, hi_open=True, note="the fill settles under heavy damping"))
+    timestep_safety: float = param(1.0, unit="-", stage=IMPACT, meaning="impact time step as a fraction of the estimated critical step "
+                                   "(the fill settles at its own, FILL_TIMESTEP_SAFETY)", allowed=TIMESTEP_SAFETY)
+    steel_contact_young: float = param(2e10, unit="Pa", meaning="contact modulus of wires and rings (their elements keep 200 GPa)",
+                                       allowed=C.Range(1e8, 2e11, "Pa", note="up to steel's E"))
+    lining_node_mass: float = param(0.02, unit="kg", stage=IMPACT, allowed=C.Range(0.0, 0.2, "kg"),
+                                    meaning="least mass of a lining node during the impact (mass scaling for the time step; "
+                                    "0: its own, about 1 g; the mass added is reported as lining_mass_added)")
+    seed: int = param(1, "integer", unit="-", meaning="grain sizes and wire slack draws", allowed=(0, 2 ** 31 - 1))
+    n_modules: int = param(1, "choice", unit="-", allowed=N_MODULES, meaning="modules: 1, 3 in a row or 7 in a hexagonal cluster")
+    module_gap: float = param(0.02, unit="m", meaning="clear gap between neighbouring modules", row="n_modules",
+                              allowed=C.Range(0.0, math.inf, "m", note="below the diameter"))
+    rope: bool = param(None, "boolean", meaning="boundary rope (6x7 FC, 8 mm) around all modules at mid-height", row="n_modules",
+                       default_text="with --n-modules above 1")
 
     @classmethod
     def small(cls, **kw):
@@ -188,18 +192,13 @@ class ModuleParams:
 
     def validate(self):
         """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
-        allowed, before anything is built (LIMITS, FILLS, the body budget MAX_BODIES)."""
-        for k, rng in LIMITS.items():
-            if getattr(self, k) is not None and not (k == "drop_height" and self.impact_velocity is not None):
-                rng.check(k, getattr(self, k))
-        check_fill(self.fill)
+        allowed, before anything is built (each field's declaration, FILLS, the bounds that
+        depend on other parameters, the body budget MAX_BODIES)."""
+        for k, (_, p) in PARAMS.items():
+            if not (k == "drop_height" and self.impact_velocity is not None):
+                p.check(k, getattr(self, k))
         C.number("fill_deposition_friction_deg", self.fill_deposition_friction_deg,
                  dataclasses.replace(LIMITS["fill_deposition_friction_deg"], hi=min(45.0, self.preset()["friction_deg"])))
-        C.choice("boulder_shape", self.boulder_shape, BOULDER_SHAPES)
-        C.choice("n_modules", self.n_modules, N_MODULES)
-        C.integer("seed", self.seed, 0, 2 ** 31 - 1)
-        C.choice("lining", self.lining, (True, False))
-        C.choice("rope", self.rope, (None, True, False))
         D, H = self.diameter, self.height
         C.number("lining_gap", self.lining_gap, C.Range(0.0, 0.25 * D, "m", hi_open=True, note="below diameter/4"))
         C.number("module_gap", self.module_gap, C.Range(0.0, D, "m", hi_open=True, note="below the diameter"))
@@ -210,7 +209,6 @@ class ModuleParams:
         n = self.body_estimate()
         if n > C.MAX_BODIES:
             raise self._too_many_bodies(n)
-        C.vector("impact_offset", self.impact_offset, 2)
         if math.hypot(*self.impact_offset) > 0.5 * D:
             raise C.BadValue("impact_offset", self.impact_offset, f"(x, y) within the module's radius, {0.5 * D:g} m")
         vol = (lambda s: s ** 3) if self.boulder_shape == "cube" else (lambda s: math.pi / 6 * s ** 3)
@@ -278,12 +276,10 @@ class ModuleParams:
         return self.n_modules > 1 if self.rope is None else bool(self.rope)
 
     def fill_key(self):
-        """Hash of every parameter the filled module depends on (the cache key)."""
-        d = dataclasses.asdict(self)
-        for k in ("boulder_mass", "boulder_shape", "boulder_density", "drop_height", "impact_velocity", "impact_offset", "damping", "timestep_safety",
-                  "lining_node_mass", "grain_crushing_is50"):
-            d.pop(k)
-        if d["fill_deposition_friction_deg"] == 0:  # (the default: the keys of the fills cached before the option stay)
+        """Hash of what the filled module depends on (the cache key): the fields declared for the
+        fill stage, the fill preset, the radii the lining gap gives and the fill's time step."""
+        d = {k: v for k, v in dataclasses.asdict(self).items() if PARAMS[k][1].stage == FILL}
+        if d["fill_deposition_friction_deg"] == 0:  # (the default is left out of the key)
             d.pop("fill_deposition_friction_deg")
         else:  # (20 and 20.0: one fill)
             d["fill_deposition_friction_deg"] = float(d["fill_deposition_friction_deg"])
@@ -293,9 +289,9 @@ class ModuleParams:
         d["_fill_radii"] = [repr(float(x)) for x in fill_radii(self)]
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 20  # 8: saved without engines; 9: dense filling (frictionless first); 10: container kept frictionless; 11: settled until the unbalanced force is low too; 12: grains clear of the lining's flat facets; 13: structure settled until the unbalanced force is low too; 14: close-packed placement, heavier structure nodes while settling; 15: FlexContactGeom.plasticOverlap saved (the same fill); 16: FlexContactGeom's crossing state saved (a file of an earlier build cannot be read); 17: the structure's nodes meet the container's facets and the slab; 18: its wires meet the container facets' edges between their nodes; 19: a contact with an element that starts deep takes over its predecessor's spring and no more, a wire piercing a facet carries no normal force; 20: a contact point on a facet edge links the two facets sharing it (found in either's face region)
+        d["_version"] = 20  # raised whenever the code fills the same parameters differently (why: git log -S_version)
         if self.with_rope():
-            d["_rope_version"] = 2  # 2: the rope's chords clear the modules (they cut into them by their sagitta before)
+            d["_rope_version"] = 2  # the same for the rope
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
     def boulder_size(self):
@@ -305,6 +301,11 @@ class ModuleParams:
 
     def impact_speed(self):
         return self.impact_velocity if self.impact_velocity is not None else math.sqrt(2 * G * self.drop_height)
+
+
+PARAMS = declared(ModuleParams)  # {name: (field, Param)}
+LIMITS = {k: p.allowed for k, (_, p) in PARAMS.items() if p.kind == "number"}  # the numbers' allowed values
+SMALL = {k: p.small for k, (_, p) in PARAMS.items() if p.small is not None}  # the reduced module (ModuleParams.small)
 
 
 def _grain_material(p, seedless_label="fill"):

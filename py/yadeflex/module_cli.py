@@ -14,7 +14,8 @@ import os
 
 from . import checks as C
 from .impact import ImpactTimes, RunSettings, EXIT
-from .module import ModuleParams, FILLS, LIMITS, BOULDER_SHAPES, N_MODULES, SMALL
+from . import params as P
+from .module import ModuleParams, FILLS, PARAMS
 
 DEFAULT_RUN = ImpactTimes.MAX_AFTER_CONTACT  # [s] longest impact run without --duration (else until the rebound + a margin)
 EXIT_CODES = ((EXIT["done"], "done"),
@@ -24,20 +25,9 @@ EXIT_CODES = ((EXIT["done"], "done"),
               (EXIT["SIGINT"], "interrupted by SIGINT (Ctrl-C); summary.json: \"status\": \"interrupted\""),
               (EXIT["SIGTERM"], "interrupted by SIGTERM; summary.json: \"status\": \"interrupted\""))
 
-# the job's own numeric options (the module's are ModuleParams' LIMITS)
-RUN_LIMITS = dict(
-    duration=C.Range(0.0, 2.0, "s", lo_open=True, note=f"simulated time after the first contact; default: until the rebound + {100 * ImpactTimes.REBOUND_MARGIN:g}%, "
-                     f"at most {DEFAULT_RUN:g} s"),
-    record_every=C.Range(1e-6, 1e-3, "s", note="time-series interval, at most duration/10: the impact force pulse lasts "
-                         "10-50 ms and its peak needs ten records or more"),
-    vtk_every=C.Range(1e-3, 2.0, "s", note=f"VTK frame interval, at most the run's length (--duration, else {DEFAULT_RUN:g} s): "
-                      "a frame per millisecond at most"),
-    min_dt_fraction=C.Range(0.0, 1.0, hi_open=True, note="stop if the stable time step falls below this fraction of its value at "
-                            "impact; 0: never"),
-    max_residual=C.Range(0.0, 1.0, lo_open=True, note="largest accepted energy-balance residual, fraction of the impact energy"),
-)
-DEFAULTS = {name: getattr(RunSettings, name) for name in RUN_LIMITS}
-BOOLEAN_WORDS = "/".join(C.TRUE_WORDS[:2] + C.FALSE_WORDS[:2] + ("1", "0"))
+RUN_PARAMS = {k: fp for k, fp in P.declared(RunSettings).items() if fp[1].kind != "flag"}  # the job's own options with a value
+RUN_LIMITS = {k: p.allowed for k, (_, p) in RUN_PARAMS.items()}
+DEFAULTS = {name: f.default for name, (f, _) in RUN_PARAMS.items()}
 
 
 class OptionError(Exception):
@@ -63,23 +53,7 @@ class _Parser(argparse.ArgumentParser):
         raise OptionError(message)
 
 
-def _option(name):
-    return "--" + name.replace("_", "-")
-
-
-def _module_help(f):
-    default = f.default
-    small = f" (--small: {SMALL[f.name]:g})" if f.name in SMALL else ""
-    if f.name in LIMITS:
-        if default is None:
-            default = {"impact_velocity": "from --drop-height", "grain_crushing_is50": "none (grains do not crush)"}.get(f.name, "the fill preset's")
-        return f"{LIMITS[f.name].text()}; default {default}{small}"
-    return {"lining": f"{BOOLEAN_WORDS}; default {default}", "rope": f"{BOOLEAN_WORDS}; default: with --n-modules above 1",
-            "fill": f"one of {', '.join(sorted(FILLS))} (presets below); default {default}",
-            "boulder_shape": f"one of {', '.join(BOULDER_SHAPES)}; default {default}",
-            "n_modules": f"one of {', '.join(map(str, N_MODULES))} (in a row, hexagonal cluster); default {default}",
-            "seed": f"a whole number in [0, {2 ** 31 - 1}]; default {default}",
-            "impact_offset": "x y [m], two finite numbers within the module's radius; default 0 0"}[f.name]
+_option = P.option
 
 
 def _epilog():
@@ -103,23 +77,12 @@ def parser():
     ap.add_argument("--no-vtk", action="store_true", help="no VTK time series")
     ap.add_argument("--fill-only", action="store_true", help="fill the module into the cache (--cache-dir) and stop: no impact, "
                     "nothing written into --out (a study fills each module once this way before its runs)")
-    for name, rng in RUN_LIMITS.items():
-        ap.add_argument(_option(name), default=None, metavar="X", help=(rng.text() + ("" if DEFAULTS[name] is None else f"; default {DEFAULTS[name]}")).replace("%", "%%"))
-    for f in dataclasses.fields(ModuleParams):
-        ap.add_argument(_option(f.name), default=None, nargs=2 if f.name == "impact_offset" else None,
-                        metavar=("X", "Y") if f.name == "impact_offset" else "V", help=_module_help(f).replace("%", "%%"))
+    for name, (f, p) in RUN_PARAMS.items():
+        ap.add_argument(_option(name), default=None, metavar="X", help=P.help_text(f, p).replace("%", "%%"))
+    for name, (f, p) in PARAMS.items():
+        ap.add_argument(_option(name), default=None, nargs=2 if p.kind == "pair" else None,
+                        metavar=("X", "Y") if p.kind == "pair" else "V", help=P.help_text(f, p).replace("%", "%%"))
     return ap
-
-
-def _number(option, text, rng=C.Range()):
-    try:
-        x = float(text)
-    except ValueError:
-        raise _bad(option, text, "a number " + rng.text()) from None
-    try:
-        return C.number(option, x, rng)
-    except C.BadValue as e:
-        raise _bad(option, x, e.allowed) from None
 
 
 def _folder(option, path):
@@ -142,9 +105,9 @@ def parse(argv):
     _folder("--out", a.out)
     if a.cache_dir is not None:
         _folder("--cache-dir", a.cache_dir)
-    for name, rng in RUN_LIMITS.items():
+    for name, (f, p) in RUN_PARAMS.items():
         v = getattr(a, name)
-        setattr(a, name, DEFAULTS[name] if v is None else _number(_option(name), v, rng))
+        setattr(a, name, f.default if v is None else _checked(_option(name), p.parse, name, v))
     run = a.duration if a.duration is not None else DEFAULT_RUN
     if a.record_every > run / 10:
         raise _bad("--record-every", a.record_every, f"at most duration/10 = {run / 10:g} s (ten records or more)")
@@ -154,25 +117,10 @@ def parse(argv):
         raise OptionError(f"bad option --impact-velocity: got {C.show(a.impact_velocity)} with --drop-height {C.show(a.drop_height)}; "
                           "allowed one of the two (the drop height sets the speed, sqrt(2 g h))")
     p = ModuleParams.small() if a.small else ModuleParams()
-    for f in dataclasses.fields(ModuleParams):
-        v, opt = getattr(a, f.name), _option(f.name)
-        if v is None:
-            continue
-        if f.name in ("lining", "rope"):
-            v = _checked(opt, C.boolean, opt, v)
-        elif f.name in ("seed", "n_modules"):
-            try:
-                v = int(v)
-            except ValueError:
-                raise _bad(opt, v, _module_help(f)) from None
-        elif f.name == "impact_offset":
-            try:
-                v = C.vector(opt, [float(x) for x in v], 2)
-            except (ValueError, C.BadValue):
-                raise _bad(opt, tuple(v), _module_help(f)) from None
-        elif f.name not in ("fill", "boulder_shape"):
-            v = _number(opt, v, LIMITS[f.name])
-        setattr(p, f.name, v)
+    for name, (f, prm) in PARAMS.items():
+        v = getattr(a, name)
+        if v is not None:
+            setattr(p, name, _checked(_option(name), prm.parse, name, v))
     _checked(None, p.validate)
     return a, p
 
@@ -189,3 +137,22 @@ def run_settings(a):
     """The run options of parsed options `a` as yadeflex.impact.run_impact's keyword arguments
     (RunSettings' fields)."""
     return {f.name: getattr(a, f.name) for f in dataclasses.fields(RunSettings)}
+
+
+README_TABLE = ("<!-- options: written by scripts/options_table.py from the declarations -->", "<!-- end of options -->")
+
+
+def readme_table():
+    """The README's option table (markdown lines, between the README_TABLE markers), read from
+    the declarations of ModuleParams' and RunSettings' fields."""
+    return [README_TABLE[0]] + P.table(ModuleParams, RunSettings) + [README_TABLE[1]]
+
+
+def readme_with_table(text):
+    """README text with the option table between its markers replaced by readme_table()."""
+    lines = text.split("\n")
+    try:
+        a, b = lines.index(README_TABLE[0]), lines.index(README_TABLE[1])
+    except ValueError:
+        raise ValueError(f"the README has no option table between {README_TABLE[0]} and {README_TABLE[1]}") from None
+    return "\n".join(lines[:a] + readme_table() + lines[b + 1:])

@@ -16,6 +16,7 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionL
                           FlexCylinder, FlexNode, Sphere, FlexRun)
 
 from . import checks as C
+from .constants import G
 from .builders import check_finite
 
 
@@ -38,14 +39,14 @@ ROLLING_FRICTION = C.Range(0.0, 1.0, note="rolling moment / (normal force x radi
 CRUSHING_IS50 = C.Range(1e4, 1e9, "Pa", note="in Pa, not MPa: rock 1.5e6-1e7 Pa (Selby 1993)")
 
 
-def engine_args(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
+def engine_args(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY):
     """(gravity Vector3, damping, timestep_safety) checked as engines() checks them: scenes
     check them before they build anything."""
     return (check_finite("gravity", gravity), C.number("damping", damping, DAMPING),
             C.number("timestep_safety", timestep_safety, TIMESTEP_SAFETY))
 
 
-def engines(gravity=(0, 0, -9.81), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
+def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
             rolling_stiffness=0.0, rolling_friction=0.0, crushing_is50=0.0, guard=False):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 

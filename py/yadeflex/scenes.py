@@ -11,8 +11,9 @@ from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
 
 from . import builders as B
 from . import checks as C
+from .constants import G
 from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO, _density
-from .scene import engines, engine_args, step_until
+from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args, step_until
 
 
 def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact_ratio=0.25, velocity=(0, 0, 0)):
@@ -49,7 +50,7 @@ def _check_chain(segments, length, radius, material=None, names=("segments", "le
         B._material(material, append=False)
 
 
-def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, gravity=9.81, damping=0.8, material=None):
+def cantilever(segments=10, length=1.0, radius=0.01, load="tip", force=1.0, gravity=G, damping=0.8, material=None):
     """Horizontal cantilever along +x, clamped at x = 0.
 
     load: 'tip' (force [N] downwards at the free end), 'axial' (force [N] along +x at the
@@ -114,7 +115,7 @@ def rotate_rigidly(ids, axis, angle, center=(0, 0, 0)):
         s.ori = q * s.ori
 
 
-def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, gravity=9.81, damping=0.0):
+def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, gravity=G, damping=0.0):
     """Helical spring of `segments` cylinders hanging from its first node under gravity."""
     _check_chain(segments, coil_radius, wire_radius, names=("segments", "coil_radius", "wire_radius"))
     C.number("pitch", pitch, C.Range(unit="m"))
@@ -126,7 +127,7 @@ def helix_scene(segments=200, coil_radius=0.05, pitch=0.01, wire_radius=0.002, g
     return dict(nodes=nodes, cylinders=cyls, params=dict(segments=segments, coil_radius=coil_radius, pitch=pitch, wire_radius=wire_radius))
 
 
-def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=9.81,
+def net_impact(n=20, spacing=0.05, wire_radius=0.002, sphere_radius=0.1, speed=5.0, damping=0.0, gravity=G,
                sphere_young=5e9, sphere_density=2500.0, friction_deg=30.0, gap=1e-4, material=None):
     """Square net of n x n nodes (border clamped) hit at its centre by a sphere moving down
     at speed [m/s], starting gap [m] above the wires; sphere_young [Pa], sphere_density
@@ -178,7 +179,7 @@ def wire_and_ring(wire_length=2.0, wire_segments=40, wire_radius=0.0015, ring_ra
 
 
 def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=2e8, contact_young=200e9, support_radius=0.01,
-                 friction_deg=0.0, timestep_safety=0.5, timestep_interval=50):
+                 friction_deg=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50):
     """A bar of FlexCylinders (length, radius [m], steel density) falling drop [m] onto two
     fixed steel spheres (support_radius [m]) under its ends, bouncing off them again and again:
     every bounce is a contact that separates and starts anew. element_young [Pa] is the bar's
@@ -190,7 +191,7 @@ def bouncing_bar(drop=1e-3, length=0.2, segments=1, radius=0.003, element_young=
                          ("support_radius", support_radius, C.Range(0.0, 1.0, "m", lo_open=True)), ("friction_deg", friction_deg, FRICTION_DEG)):
         C.number(name, v, rng)
     C.integer("timestep_interval", timestep_interval, 1, 10 ** 9)
-    engine_args((0, 0, 9.81), 0.0, timestep_safety)
+    engine_args((0, 0, G), 0.0, timestep_safety)
     O.reset()
     mat = flex_material(young=contact_young, element_young=element_young, density=7850.0, friction_deg=friction_deg)
     half = 0.5 * length

@@ -176,3 +176,30 @@ def test_more_threads_than_cpus_are_refused(tmp_path):
                        timeout=300, cwd=str(tmp_path))
     assert r.returncode == 1 and f"more than the {cpus} CPUs available" in r.stderr, r.stderr
     assert not (tmp_path / "cache").exists() and not (tmp_path / "out").exists() and not (tmp_path / "out2").exists()
+
+
+def test_the_readme_option_table_is_the_one_the_declarations_give():
+    # one home per option: the README's table is written from ModuleParams' and RunSettings'
+    # declarations (scripts/options_table.py --write), every option of --help in it once
+    with open(os.path.join(REPO, "README.md")) as f:
+        text = f.read()
+    assert cli.readme_with_table(text) == text, "README's option table is stale: run yade-double -n -x scripts/options_table.py --write"
+    table = "\n".join(cli.readme_table())
+    for name in list(cli.PARAMS) + list(cli.P.declared(cli.RunSettings)):
+        assert table.count(f"`{cli.P.option(name)}`") == 1, name
+
+
+def test_the_fill_cache_key_holds_the_fill_stage_only():
+    # the filled module depends on the fields declared for the fill stage: an impact field
+    # changes no key, every fill field does
+    base = ModuleParams()
+    for name, (f, p) in cli.PARAMS.items():
+        other = {"number": lambda v: (v or 0.5) * 0.99 if name != "fill_deposition_friction_deg" else 10.0, "integer": lambda v: v + 1,
+                 "boolean": lambda v: not v, "choice": lambda v: next(o for o in p.allowed if o != v and o is not None),
+                 "pair": lambda v: (0.1, 0.0)}[p.kind](f.default)
+        unset = dict(grain_min=0.035, grain_max=0.06, fill_friction_deg=30.0, rolling_friction=0.2, fill_young=2e8, grain_crushing_is50=5e6,
+                     impact_velocity=5.0, rope=True, lining_gap=0.03)  # (values for the unset ones; a gap that moves the lining)
+        other = unset.get(name, other)
+        changed = ModuleParams(**{name: other})
+        changed.validate()
+        assert (changed.fill_key() != base.fill_key()) == (p.stage == "fill"), (name, p.stage, other)
