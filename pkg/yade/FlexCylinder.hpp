@@ -11,6 +11,8 @@ public:
 	/// Validate, bind to the nodes, compute the rest state and add the lumped mass/inertia
 	/// shares to the nodes. Raises ValueError naming the problem.
 	void attach(int selfId);
+	/// Its largest squared eigenfrequency, for the time-step bound (FlexTimeStepper) [1/s2].
+	Real stepOmega2() const { return omega2; }
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexCylinder, Shape,
 		"Deformable cylinder (yade-flex): a capsule of :yref:`FlexCylinder.radius` between two :yref:`FlexNode` bodies, with no DOF of its own. It is both the bond (co-rotational Euler-Bernoulli beam: EA/L, 12EI/L^3, EI/L, GJ/L, J = 2I) and the contact surface. Lumped shares given to each node: mass rho*pi*r^2*L/2 (the cylinder only; the spherical caps overlap the neighbour in a continuous wire and are not counted) and isotropic inertia m_h(r^2/4 + L^2/12). Create with ``yadeflex.cylinder``.",

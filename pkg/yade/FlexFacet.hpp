@@ -41,6 +41,9 @@ public:
 	/// Validate, bind to the nodes, compute the rest state and add the lumped mass shares to
 	/// the nodes. Raises ValueError naming the problem.
 	void attach(int selfId);
+	/// Its largest squared eigenfrequency now, for the time-step bound (FlexTimeStepper): omega2
+	/// scaled up by how much its current stretch (e1, e2) stiffens its material mat [1/s2].
+	Real stepOmega2(const Material* mat) const;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexFacet, Shape,
 		"Deformable facet (yade-flex): a thick triangle (thickness 2 :yref:`FlexFacet.radius`, rounded edges and corners) over three :yref:`FlexNode` bodies, with no DOF of its own. It is both the membrane element (constant-strain triangle, St. Venant-Kirchhoff, plane stress; tension-field wrinkling if the material is tension-only) and the contact surface. Each node receives a third of its mass (arealDensity x area). Create with ``yadeflex.facet`` or the membrane builders.",
@@ -54,7 +57,7 @@ public:
 		((Real, area0, NaN, Attr::readonly, "Rest area [m2]"))
 		((Real, massShare, 0, Attr::readonly, "Mass given to each node [kg]"))
 		((Real, inertiaShare, 0, Attr::readonly, "Rotational inertia given to each node [kg m2] (the membrane puts no moment on its nodes)"))
-		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the facet at rest with its own mass shares [1/s2]; FlexTimeStepper scales it up for the current stretch (a stretched membrane is stiffer)"))
+		((Real, omega2, 0, Attr::readonly, "Largest squared eigenfrequency of the facet at rest with its own mass shares [1/s2]; stepOmega2 scales it up for the current stretch (a stretched membrane is stiffer)"))
 		((Real, n1, 0, Attr::readonly, "Larger principal membrane force per unit rest width (nominal: what a strip tensile test reports; finite when the fabric folds) [N/m]"))
 		((Real, n2, 0, Attr::readonly, "Smaller principal membrane force per unit rest width [N/m]"))
 		((Real, e1, 0, Attr::readonly, "Larger principal Green strain [-]"))

@@ -2,6 +2,7 @@
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include <kernel/Hook.hpp>
+#include <kernel/Membrane.hpp>
 #include <kernel/TimeStep.hpp>
 
 #include <kernel/WireLaw.hpp>
@@ -200,6 +201,12 @@ void Bo1_FlexFacet_Aabb::go(const shared_ptr<Shape>& sh, shared_ptr<Bound>& bv, 
 	f.boundRef1         = s1->pos;
 	f.boundRef2         = s2->pos;
 	f.boundRef3         = s3->pos;
+}
+
+Real FlexFacet::stepOmega2(const Material* mat) const
+{
+	const FlexMembraneMat* m = mat ? flexa::fastCast<FlexMembraneMat>(mat) : nullptr;
+	return m ? omega2 * flex::membraneStretchFactor(e1, e2, flexa::membraneLaw(*m)) : omega2;
 }
 
 } // namespace yade

@@ -50,15 +50,13 @@ namespace {
 		for (long id = 0; id < nb; ++id) {
 			const flexa::Element& e = sb[id].el;
 			if (!e.nNodes) continue;
+			// each element states its own bound (a membrane's at the strains FlexElementEngine
+			// computed this step)
 			if (e.cyl && e.cyl->attached)
-				shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->omega2, (Body::id_t)id });
+				shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->stepOmega2(), (Body::id_t)id });
 			else if (e.fac && e.fac->attached) {
-				// a stretched membrane is stiffer than at rest (FlexFacet.omega2): scale by the bound
-				// of its tangent stiffness at the strains FlexElementEngine computed this step
-				const shared_ptr<Body>& b   = bodies[id];
-				const FlexMembraneMat*  mat = b ? flexa::fastCast<FlexMembraneMat>(b->material.get()) : nullptr;
-				const Real              f   = mat ? flex::membraneStretchFactor(e.fac->e1, e.fac->e2, flexa::membraneLaw(*mat)) : 1;
-				shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->omega2 * f, (Body::id_t)id });
+				const shared_ptr<Body>& b = bodies[id];
+				shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->stepOmega2(b ? b->material.get() : nullptr), (Body::id_t)id });
 			}
 		}
 		for (const Share& sh : shares)
