@@ -548,7 +548,7 @@ def impact_window(bid, top0, size, window, record, every=None, each=None, wall_c
     (the built-in module's step collapses on fine fills: one such run had not ended after 45 min).
     One loop for both implementations, so that their wall times compare (yadeflex.impact.run_impact
     runs the yade-flex scene only, and records much more)."""
-    from yadeflex.module import G
+    from yadeflex.constants import G
     st = O.bodies[bid].state
     m = st.mass
     z0, v0 = st.pos[2], Vector3(st.vel)

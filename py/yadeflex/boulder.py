@@ -1,0 +1,98 @@
+"""The impact's start on a filled module: the lining's mass scaling and the boulder placed above
+the fill with the speed of its drop."""
+import math
+
+from yade import O
+from yade.minieigenHP import Vector3
+from yade.wrapper import Body, Sphere, FrictMat
+
+from .constants import G
+from .scene import step_until
+from .fill import fill_top, _sphere_body
+from .fill_cache import filled_module
+
+
+def add_boulder(params, ids, gap=0.005):
+    """The boulder, its lowest point `gap` [m] above the highest point of the module (fill,
+    top ring), moving down with the free-fall speed of params (drop height reduced by the
+    gap, so that it reaches the fill top at sqrt(2 g h)). Returns its body id."""
+    params.validate()
+    top = max(fill_top(ids), max(O.bodies[n].state.pos[2] for n in ids["mesh_nodes"]) + 0.5 * params.ring_bar_diameter)
+    s = params.boulder_size()
+    v_top = params.impact_speed()
+    v0 = math.sqrt(max(0.0, v_top * v_top - 2 * G * gap))
+    mat = FrictMat(young=3e9, poisson=0.2, density=params.boulder_density, frictionAngle=math.radians(35), label="boulder")
+    O.materials.append(mat)
+    ox, oy = params.impact_offset
+    if params.boulder_shape == "sphere":
+        r = 0.5 * s
+        bid = _sphere_body(Vector3(ox, oy, top + gap + r), r, mat)
+        O.bodies[bid].state.vel = Vector3(0, 0, -v0)
+        return bid
+    n = 4  # member spheres per side: radius s/(2n), centres on a grid inset by that radius
+    r = s / (2 * n)
+    members = []
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
+                c = Vector3(ox - s / 2 + r + 2 * r * i, oy - s / 2 + r + 2 * r * j, top + gap + r + 2 * r * k)
+                b = Body()
+                b.shape = Sphere(radius=r * 1.0)
+                b.material = mat
+                b.state.pos = c
+                members.append(b)
+    cid = O.bodies.appendClumped(members)[0]
+    cl = O.bodies[cid]
+    cl.state.mass = params.boulder_mass
+    cl.state.inertia = Vector3(1, 1, 1) * params.boulder_mass * s * s / 6
+    cl.aspherical = False  # isotropic inertia (a solid cube): the spherical rotation update is exact
+    cl.state.vel = Vector3(0, 0, -v0)
+    return cid
+
+
+def touches(bid):
+    """Whether body bid (a clump: one of its members) has a real interaction."""
+    b = O.bodies[bid]
+    return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
+
+
+def scale_lining_nodes(ids, m_min):
+    """Mass scaling of the lining for the impact: every dynamic lining node gets at least the mass
+    m_min [kg], its rotational inertia scaled by the same factor. The geotextile's own nodes weigh
+    about a gram; pressed between grains and wires they would set the time step of the whole
+    impact (FlexTimeStepper's stiffest body), while their inertia is small beside the grains that
+    press on them. The mass added weighs too (gravity acts on it). Returns (mass added, the
+    lining's own mass) [kg]; m_min = 0 changes nothing."""
+    added = own = 0.0
+    for m in ids["modules"]:
+        for n in m.get("lining_nodes", []):
+            b = O.bodies[n]
+            if b is None or not b.dynamic:
+                continue
+            own += b.state.mass
+            if b.state.mass < m_min:
+                f = m_min / b.state.mass
+                added += m_min - b.state.mass
+                b.state.mass = m_min
+                b.state.inertia = Vector3(b.state.inertia) * f
+    return added, own
+
+
+def impact_start(params, cache_dir=None, max_fall=0.5):
+    """The main job's impact up to the boulder's first contact: loads (or fills) the module,
+    adds the boulder and the impact engines, and steps until the boulder touches something (for
+    benchmarks and diagnostics that look at the impact itself). Returns (ids, boulder id, the
+    boulder's member body ids), with the lining's nodes scaled as the main job scales them
+    (scale_lining_nodes). Raises RuntimeError if no contact within max_fall [s]."""
+    ids, _, _ = filled_module(params, cache_dir=cache_dir)
+    scale_lining_nodes(ids, params.lining_node_mass)
+    bid = add_boulder(params, ids)
+    O.engines = params.engines(params.damping)
+    boulder = O.bodies[bid]
+    members = set(boulder.shape.members.keys()) if boulder.isClump else {bid}
+    t0 = O.time
+    while not touches(bid):
+        if O.time - t0 > max_fall:
+            raise RuntimeError("the boulder never touched the module")
+        step_until(math.inf, 50)
+    return ids, bid, members
