@@ -3,7 +3,7 @@
 #     yade-double -n -j1 -x bench/bench_prefetch.py [--small] [--rounds 6] [--window 150]
 #
 # FlexInteractionLoop, FlexNewtonIntegrator and FlexTimeStepper ask for the data of the
-# interactions and bodies a few iterations ahead (pkg/yade/FlexLoop.hpp); each has a `prefetch`
+# interactions and bodies a few iterations ahead (pkg/yade/speed/FlexLoop.hpp); each has a `prefetch`
 # switch. This script loads the main job's filled module (cached; built on first use), adds the
 # boulder with the main job's engines, steps until 5 ms after its first contact, then checks
 # that the three settings below give the same state bit for bit over 200 steps from one saved

@@ -3,7 +3,7 @@
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 #include "FlexSceneCheck.hpp"
 #include "FlexWire.hpp"
 

@@ -3,7 +3,7 @@
 #pragma once
 #include "FlexPch.hpp"
 #include "FlexForces.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 
 namespace yade {
 

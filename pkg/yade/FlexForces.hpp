@@ -74,7 +74,7 @@ namespace flexa {
 	/// (addForceUnsynced), and zeroes them. A later addForce marks the container unsynced again
 	/// and the next sync adds on top (ForceContainer::sync accumulates). Only the ids in
 	/// [from, to) are visited (to < 0: every body): the caller's promise that its sinks wrote no
-	/// other id since the last merge. Defined in FlexLoop.cpp.
+	/// other id since the last merge. Defined in speed/FlexLoop.cpp.
 	void mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, long from = 0, long to = -1);
 
 	/// A term's first value inside a parallel region, kept until bookDeferredEnergies names the
@@ -84,7 +84,7 @@ namespace flexa {
 	/// new term reallocates every thread's sums while the other threads add to them.
 	void deferEnergy(Real val, const char* name, int& ix, bool reset);
 	/// After a parallel region, on one thread: the deferred terms named (their indices set) and
-	/// their values added. Defined in FlexLoop.cpp.
+	/// their values added. Defined in speed/FlexLoop.cpp.
 	void bookDeferredEnergies(Scene* scene);
 
 	/// scene->energy->add without building a std::string from the name at every call (the hot

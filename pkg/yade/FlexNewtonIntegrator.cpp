@@ -2,7 +2,7 @@
 // (GPL-2.0-or-later). Declaration: FlexNewtonIntegrator.hpp.
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 
 #include <kernel/LeapFrog.hpp>
 #include "FlexSceneCheck.hpp"
@@ -250,7 +250,7 @@ void FlexNewtonIntegrator::integrate()
         reduction(min : firstBad)
 #endif
 	for (long k = 0; k < n; ++k) {
-		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see FlexLoop.hpp)
+		if (pf) { // the body 8 ahead, the state and bound of the one 4 ahead (see speed/FlexLoop.hpp)
 			using flexa::tuning::kAheadIntegratorBodies;
 			using flexa::tuning::kAheadIntegratorParts;
 			if (k + kAheadIntegratorBodies < n) flexa::prefetch(bodies[mv[k + kAheadIntegratorBodies]].get(), sizeof(Body));

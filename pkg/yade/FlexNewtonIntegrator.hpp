@@ -2,7 +2,7 @@
 // collider when an element moved, from both of its nodes.
 #pragma once
 #include "FlexPch.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 
 namespace yade {
 

@@ -3,10 +3,10 @@
 #include "FlexSurfaces.hpp"
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 #include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
-#include "FlexLoop.hpp"
+#include "speed/FlexLoop.hpp"
 
 #include <core/InteractionLoop.hpp>
 #include <boost/python/detail/wrap_python.hpp>

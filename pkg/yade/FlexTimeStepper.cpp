@@ -1,12 +1,12 @@
 // yade-flex adapter: FlexTimeStepper, the critical time step from bonds and contacts
 // (GPL-2.0-or-later). Declaration: FlexTimeStepper.hpp; the contact rows' derivation:
 // pkg/kernel/ContactRows.hpp.
-#include "FlexStepperContacts.hpp"
+#include "speed/FlexStepperContacts.hpp"
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
 #include "FlexSceneCheck.hpp"
-#include "FlexTuning.hpp"
+#include "speed/FlexTuning.hpp"
 #include "FlexUnstable.hpp"
 
 #include <sstream>

@@ -62,7 +62,7 @@ def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SA
     integrator, see pkg/kernel/Contact.cpp) instead of YADE's ScGeom + CundallStrack.
     The loop over interactions is FlexInteractionLoop: YADE's InteractionLoop with the same
     functor calls in the same order (same results) that asks for each interaction's data a few
-    iterations ahead (pkg/yade/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop),
+    iterations ahead (pkg/yade/speed/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop),
     and leaves out the sphere pairs whose spheres are apart from a table of their centres before
     reading their bodies (.quickReject; same results).
     crushing_is50 [Pa]: the point-load strength index Is(50) of the spheres' rock: the normal force

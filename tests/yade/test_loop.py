@@ -1,4 +1,4 @@
-"""FlexInteractionLoop (pkg/yade/FlexLoop.hpp): YADE's InteractionLoop with prefetching. It must
+"""FlexInteractionLoop (pkg/yade/speed/FlexLoop.hpp): YADE's InteractionLoop with prefetching. It must
 give the same results as InteractionLoop, bit for bit at one thread (the same functor calls in
 the same order), on a scene with every kind of contact: the reduced damping module hit by its
 clumped boulder (grains, wires, rings, lining facets, the slab, pairs the time stepper marks as

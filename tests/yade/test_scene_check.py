@@ -18,7 +18,7 @@ from yade.wrapper import PyRunner, TranslationEngine
 import yadeflex as yf
 from yadeflex import scenes
 
-FULL_CHECK_PERIOD = 32  # tuning::kFullCheckPeriod (pkg/yade/FlexTuning.hpp)
+FULL_CHECK_PERIOD = 32  # tuning::kFullCheckPeriod (pkg/yade/speed/FlexTuning.hpp)
 
 
 def _net():

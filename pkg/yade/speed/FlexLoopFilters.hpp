@@ -3,7 +3,7 @@
 // ahead (GPL-2.0-or-later). Included by FlexLoop.cpp only; why and what: FlexLoop.hpp.
 #pragma once
 #include "FlexLoop.hpp"
-#include "FlexProtocol.hpp"
+#include "../FlexProtocol.hpp"
 #include "FlexTuning.hpp"
 
 #include <algorithm>

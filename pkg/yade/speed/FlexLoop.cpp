@@ -3,10 +3,10 @@
 #include "FlexLoopCompaction.hpp"
 #include "FlexLoopFilters.hpp"
 #include "FlexLoopStep.hpp"
-#include "FlexProtocol.hpp"
+#include "../FlexProtocol.hpp"
 #include "FlexTuning.hpp"
-#include "FlexSceneCheck.hpp"
-#include "FlexSurfaces.hpp"
+#include "../FlexSceneCheck.hpp"
+#include "../FlexSurfaces.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
 

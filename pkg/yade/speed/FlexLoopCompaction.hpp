@@ -2,7 +2,7 @@
 // their geometry and physics side by side in one block of memory (one per thread), in the order
 // the loop visits them (GPL-2.0-or-later). Included by FlexLoop.cpp only.
 #pragma once
-#include "Flex.hpp"
+#include "../Flex.hpp"
 #include "FlexTuning.hpp"
 
 #include <cstdint>

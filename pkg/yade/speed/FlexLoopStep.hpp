@@ -3,7 +3,7 @@
 #pragma once
 #include "FlexLoop.hpp"
 #include "FlexLoopFilters.hpp"
-#include "FlexProtocol.hpp"
+#include "../FlexProtocol.hpp"
 #include "FlexTuning.hpp"
 
 #include <kernel/BlockShares.hpp>

@@ -2,11 +2,11 @@
 // interactions (GPL-2.0-or-later). Included by FlexTimeStepper.cpp only; the rows' derivation:
 // pkg/kernel/ContactRows.hpp.
 #pragma once
-#include "FlexContactSide.hpp"
-#include "FlexElements.hpp"
-#include "FlexLaws.hpp"
-#include "FlexProtocol.hpp"
-#include "FlexSurfaces.hpp"
+#include "../FlexContactSide.hpp"
+#include "../FlexElements.hpp"
+#include "../FlexLaws.hpp"
+#include "../FlexProtocol.hpp"
+#include "../FlexSurfaces.hpp"
 #include "FlexTuning.hpp"
 
 #include <kernel/ClosestPoints.hpp>

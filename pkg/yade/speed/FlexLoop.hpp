@@ -66,8 +66,8 @@
 // supported here (nor anywhere in yade-flex). InteractionLoop's warning for a geometry functor
 // that returns false on a real interaction is not printed (the interaction is reset all the same).
 #pragma once
-#include "FlexPch.hpp"
-#include "FlexForces.hpp"
+#include "../FlexPch.hpp"
+#include "../FlexForces.hpp"
 #include "FlexTuning.hpp"
 
 #include <core/InteractionLoop.hpp>
@@ -144,7 +144,7 @@ public:
 	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(FlexInteractionLoop, InteractionLoop,
-		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/FlexLoop.hpp.",
+		"InteractionLoop that prefetches the interactions, bodies, states, shapes, geometries and physics a few iterations ahead (yade-flex). Same constructor (3 lists of functors) and same results; see pkg/yade/speed/FlexLoop.hpp.",
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
 		((int, blockSize, flexa::tuning::kBlockSize, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache, then blocks left at the end of the other threads' runs [-]"))
 		((Vector3i, ahead, Vector3i(flexa::tuning::kAheadObjects, flexa::tuning::kAheadTargets, flexa::tuning::kAheadStates), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
