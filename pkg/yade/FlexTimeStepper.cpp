@@ -138,11 +138,22 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
 
+void FlexTimeStepper::validate() const
+{
+	auto bad = [](const char* name, Real v, const char* need) {
+		std::ostringstream os;
+		os << "FlexTimeStepper." << name << " must be " << need << ", got " << v;
+		throw std::invalid_argument(os.str());
+	};
+	if (interval < 1) bad("interval", interval, ">= 1");
+	if (!(safety > 0) || safety > 1) bad("safety", safety, "in (0, 1]");
+	if (!(minDtFraction >= 0) || !std::isfinite(minDtFraction)) bad("minDtFraction", minDtFraction, "finite and >= 0");
+}
+
 void FlexTimeStepper::action()
 {
 	flexa::checkScene(scene, this);
-	if (interval < 1) throw std::invalid_argument("FlexTimeStepper.interval must be >= 1");
-	if (!(safety > 0) || safety > 1) throw std::invalid_argument("FlexTimeStepper.safety must be in (0, 1]");
+	validate(); // (a value refused when set stays stored: it must not run)
 	// Also whenever the collider ran: only the collider adds (potential) interactions, and a new
 	// pair may be stiffer than any counted so far. Contacts ending between collider runs can only
 	// lengthen the critical step: they wait for the next update. (Recomputing at every change of
@@ -158,7 +169,6 @@ void FlexTimeStepper::action()
 	dtCritical   = criticalImpl(markUnreachable);
 	stiffestBody = stiffestCache;
 	skippedPairs = skippedCache;
-	if (!(minDtFraction >= 0) || !std::isfinite(minDtFraction)) throw std::invalid_argument("FlexTimeStepper.minDtFraction must be finite and >= 0");
 	if (std::isfinite(dtCritical) && minDtFraction > 0) {
 		if (!(dtReference > 0)) dtReference = dtCritical;
 		if (dtCritical < minDtFraction * dtReference) {

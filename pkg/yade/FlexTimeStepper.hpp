@@ -27,19 +27,22 @@ public:
 	/// the potential pairs the estimate leaves out now (see skipUnreachable), for tests
 	boost::python::list unreachablePairs() const;
 	Real                critical() const;
-	void                action() override;
+	/// Throws std::invalid_argument naming the first bad parameter (called when one is set).
+	void validate() const;
+	void postLoad(FlexTimeStepper&) { validate(); }
+	void action() override;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(FlexTimeStepper, GlobalEngine,
 		"Sets O.dt to safety x the critical step of the central-difference integrator, bounded from the bonds (element eigenvalue inequality) and from all contacts with NormShearPhys (Gershgorin row sums with the node weights), translational and rotational, including potential contacts found by the collider (with the stiffness FrictMat contacts will have) that could start before the collider runs again (see skipUnreachable), so that a contact never starts with a step too long for it, and divided by sqrt(1 + NewtonIntegrator.damping) (Cundall's damping scales accelerations by up to 1 + damping). Runs every :yref:`FlexTimeStepper.interval` steps and whenever the collider ran (it alone adds interactions; without an InsertionSortCollider: whenever the number of interactions changes).",
-		((Real, safety, flexa::kDefaultTimeStepSafety, , "Fraction of the critical step, in (0, 1]; yadeflex.engines() uses the same default [-]"))
-		((int, interval, 50, , "Recompute every this many steps [-]"))
+		((Real, safety, flexa::kDefaultTimeStepSafety, Attr::triggerPostLoad, "Fraction of the critical step, in (0, 1]; yadeflex.engines() uses the same default [-]"))
+		((int, interval, 50, Attr::triggerPostLoad, "Recompute every this many steps, >= 1 [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]"))
 		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]"))
 		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact (for comparisons)."))
 		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
 		((bool, prefetch, true, , "Ask for the interactions' data a few iterations ahead in the loop over interactions (same results; False: for comparisons)"))
 		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]"))
-		((Real, minDtFraction, 0, , "Stop the run (yadeflex.Unstable, naming the stiffest body) when the critical step falls below this fraction of dtReference: a collapsed step (a crushed facet, a light node under a stiff contact) would run on for ever at a vanishing step; 0: never [-]"))
+		((Real, minDtFraction, 0, Attr::triggerPostLoad, "Stop the run (yadeflex.Unstable, naming the stiffest body) when the critical step falls below this fraction of dtReference: a collapsed step (a crushed facet, a light node under a stiff contact) would run on for ever at a vanishing step; 0: never [-]"))
 		((Real, dtReference, 0, , "The critical step minDtFraction compares with; 0: the next estimate sets it (set it to 0 to start again, e.g. at an impact) [s]")),
 		,
 		.def("critical", &FlexTimeStepper::critical, "Critical step of the current scene [s] (no change to O.dt)")

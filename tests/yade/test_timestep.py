@@ -411,3 +411,21 @@ def test_heavier_nodes_lengthen_the_bond_step_as_the_root_of_their_mass(scene):
     st[1].mass *= f
     st[1].inertia = st[1].inertia * f
     assert_rel(yf.critical_timestep(), 2 / math.sqrt(2 * k / (f * mh)), 1e-9, "both nodes heavier")
+
+
+@pytest.mark.parametrize("attr, value", [("safety", 0.0), ("safety", -0.5), ("safety", 1.5), ("safety", float("nan")), ("interval", 0),
+                                         ("interval", -3), ("minDtFraction", -0.1), ("minDtFraction", float("inf")), ("minDtFraction", float("nan"))])
+def test_bad_parameters_raise_when_set_naming_them(scene, attr, value):
+    # checked when set (constructor or assignment); a refused value that stays stored does not run
+    from yade.wrapper import FlexTimeStepper
+    with pytest.raises(ValueError, match=f"FlexTimeStepper.{attr} must be"):
+        FlexTimeStepper(**{attr: value})
+    ts = FlexTimeStepper()
+    with pytest.raises(ValueError, match=f"FlexTimeStepper.{attr} must be"):
+        setattr(ts, attr, value)
+    scenes.net_impact(n=3, spacing=0.05, wire_radius=0.002, sphere_radius=0.03, speed=1.0)
+    bad = next(e for e in O.engines if isinstance(e, FlexTimeStepper))
+    with pytest.raises(ValueError):
+        setattr(bad, attr, value)
+    with pytest.raises(ValueError, match=f"FlexTimeStepper.{attr} must be"):
+        O.step()
