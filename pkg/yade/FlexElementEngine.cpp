@@ -145,9 +145,9 @@ namespace {
 	// The collider pairs of bonded neighbours the Ig2s reported this step, erased (FlexProtocol.hpp)
 	void eraseNeighbourPairs(Scene* scene)
 	{
-		flexa::NeighbourPairs&      np = flexa::neighbourPairs();
+		flexa::NeighbourPairs&      np = flexa::sceneState(scene).neighbourPairs;
 		std::lock_guard<std::mutex> lock(np.m);
-		if (np.scene != scene || np.pairs.empty()) return;
+		if (np.pairs.empty()) return;
 		for (const auto& pr : np.pairs) {
 			const shared_ptr<Interaction> I = scene->interactions->find(pr.first, pr.second);
 			if (I && !I->isReal()) scene->interactions->erase(pr.first, pr.second, I->linIx);
@@ -377,7 +377,7 @@ void FlexElementEngine::rupture(std::vector<Body::id_t>& broken)
 		}
 		rupturedBodies.push_back((*scene->bodies)[id]); // released with the engine (see FlexElementEngine.hpp)
 		scene->bodies->erase(id, false);                // erases its interactions too: no ghost element
-		++flexa::elementErasures();
+		++flexa::sceneState(scene).elementErasures;
 		rupturedIds.push_back(id);
 		++nRuptured;
 	}

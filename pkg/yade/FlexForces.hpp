@@ -82,7 +82,7 @@ namespace flexa {
 	/// reads its map of names outside its critical section while another thread may insert, two
 	/// threads can both name the term (two slots, one of them left out of O.energy.keys()), and a
 	/// new term reallocates every thread's sums while the other threads add to them.
-	void deferEnergy(Real val, const char* name, int& ix, bool reset);
+	void deferEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset);
 	/// After a parallel region, on one thread: the deferred terms named (their indices set) and
 	/// their values added. Defined in speed/FlexLoop.cpp.
 	void bookDeferredEnergies(Scene* scene);
@@ -96,7 +96,7 @@ namespace flexa {
 			scene->energy->energies.add(ix, val);
 #ifdef YADE_OPENMP
 		else if (omp_in_parallel())
-			deferEnergy(val, name, ix, reset);
+			deferEnergy(scene, val, name, ix, reset);
 #endif
 		else
 			scene->energy->add(val, name, ix, reset);

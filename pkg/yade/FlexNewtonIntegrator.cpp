@@ -208,19 +208,21 @@ void FlexNewtonIntegrator::integrateWithYade()
 	for (const auto& b : *scene->bodies)
 		if (b && !b->isClumpMember() && !flexa::motionValid(*b->state))
 			flexa::refuseIntegrated(scene, b->id, scene->forces.getForce(b->id), scene->forces.getTorque(b->id));
-	flexa::vouchedStep() = { scene, scene->iter };
+	flexa::sceneState(scene).vouched.iter = scene->iter;
 }
 
 // The nodes' sweep table, rebuilt when the collider ran or an element was erased since.
 void FlexNewtonIntegrator::updateNodeTable()
 {
-	const long runs = flexa::insertionSortColliderRuns(scene);
+	const long               runs  = flexa::insertionSortColliderRuns(scene);
+	const flexa::SceneState& state = flexa::sceneState(scene);
 	if (runs < 0)
 		nodeTableOk = false; // no InsertionSortCollider to tell when bounds change
-	else if (runs != tableRuns || flexa::elementErasures() != tableErasures) {
+	else if (runs != tableRuns || state.elementErasures != tableErasures || &state != tableState) {
 		nodeTableOk   = buildNodeTable();
 		tableRuns     = runs;
-		tableErasures = flexa::elementErasures();
+		tableErasures = state.elementErasures;
+		tableState    = &state;
 	}
 }
 
@@ -309,7 +311,7 @@ void FlexNewtonIntegrator::integrate()
 	}
 	if (firstBad != std::numeric_limits<long>::max())
 		flexa::refuseIntegrated(scene, Body::id_t(firstBad), scene->forces.getForce(firstBad), scene->forces.getTorque(firstBad));
-	flexa::vouchedStep() = { scene, scene->iter }; // (what a clump moved with its members too)
+	flexa::sceneState(scene).vouched.iter = scene->iter; // (what a clump moved with its members too)
 	if (track && n > 0) {
 		if (nDamp) flexa::addEnergy(scene, eDamp, "nonviscDamp", nonviscDampIx, false);
 		if (!kinSplit)

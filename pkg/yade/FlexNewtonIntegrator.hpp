@@ -19,6 +19,7 @@ class FlexNewtonIntegrator : public NewtonIntegrator {
 	Real                  nodeBase    = 0; // 0.5 if some element has a bound (flagElements' "inside")
 	bool                  nodeTableOk = false;
 	long                  tableRuns = -2, tableErasures = -1;
+	const void*           tableState = nullptr; // the flexa::SceneState the table was built for
 	bool                  buildNodeTable();
 	Real                  dampingOnBlockedDofs(); // what NewtonIntegrator books on blocked DOFs this step [J]
 	Real                  driveWork();            // booked for the driven DOFs this step (flex::driveWork) [J]

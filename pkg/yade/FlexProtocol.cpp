@@ -20,43 +20,36 @@ namespace flexa {
 		// The engine list is checked against the one seen last (each engine's address and
 		// dynamic type, a pointer comparison each) and searched with dynamic_cast only when it
 		// changed (a dynamic_cast over the engines costs about 2,200 instructions per call).
-		struct EngineMemo {
-			const Scene*                                                 scene = nullptr;
-			std::vector<std::pair<const Engine*, const std::type_info*>> seen;
-			const Engine*                                                collider     = nullptr; // (the list holds it)
-			bool                                                         orderChecked = false;
-			std::vector<size_t> periodic, parallel; // places of the PeriodicEngines (none is yade-flex's) and ParallelEngines
-			unsigned long       generation = 0;     // one more at each change of the list
-			// true if the list is the one seen last; else remembers it and finds its collider
-			bool same(const Scene* s)
-			{
-				const auto& engines = s->engines;
-				bool        same    = scene == s && seen.size() == engines.size();
-				for (size_t i = 0; same && i < engines.size(); ++i) {
-					const Engine* e = engines[i].get();
-					same            = e == seen[i].first && (!e || &typeid(*e) == seen[i].second);
-				}
-				if (same) return true;
-				scene        = s;
-				collider     = nullptr;
-				orderChecked = false;
-				++generation;
-				seen.clear();
-				periodic.clear();
-				parallel.clear();
-				for (const auto& e : engines) {
-					seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
-					if (dynamic_cast<const InsertionSortCollider*>(e.get())) collider = e.get(); // the last one
-					if (dynamic_cast<const PeriodicEngine*>(e.get())) periodic.push_back(seen.size() - 1);
-					if (dynamic_cast<const ParallelEngine*>(e.get())) parallel.push_back(seen.size() - 1);
-				}
-				return false;
-			}
-		};
-		EngineMemo& memo()
+		// Returns the scene's memo, `same` whether the list is the one seen last.
+		EngineListMemo& engineList(const Scene* s, bool& same)
 		{
-			thread_local EngineMemo m;
+			EngineListMemo& m       = sceneState(s).engineList;
+			const auto&     engines = s->engines;
+			same                    = m.filled && m.seen.size() == engines.size();
+			for (size_t i = 0; same && i < engines.size(); ++i) {
+				const Engine* e = engines[i].get();
+				same            = e == m.seen[i].first && (!e || &typeid(*e) == m.seen[i].second);
+			}
+			if (same) return m;
+			m.filled       = true;
+			m.collider     = nullptr;
+			m.orderChecked = false;
+			++m.generation;
+			m.seen.clear();
+			m.periodic.clear();
+			m.parallel.clear();
+			for (const auto& e : engines) {
+				m.seen.emplace_back(e.get(), e ? &typeid(*e) : nullptr);
+				if (dynamic_cast<const InsertionSortCollider*>(e.get())) m.collider = e.get(); // the last one
+				if (dynamic_cast<const PeriodicEngine*>(e.get())) m.periodic.push_back(m.seen.size() - 1);
+				if (dynamic_cast<const ParallelEngine*>(e.get())) m.parallel.push_back(m.seen.size() - 1);
+			}
 			return m;
+		}
+		EngineListMemo& engineList(const Scene* s)
+		{
+			bool same;
+			return engineList(s, same);
 		}
 
 		// The place of an engine in the order of FlexProtocol.hpp, -1: not part of it.
@@ -82,14 +75,12 @@ namespace flexa {
 
 	long insertionSortColliderRuns(const Scene* scene)
 	{
-		EngineMemo& m = memo();
-		m.same(scene);
+		const EngineListMemo& m = engineList(scene);
 		return m.collider ? static_cast<const InsertionSortCollider*>(m.collider)->numAction : -1;
 	}
 	shared_ptr<Engine> insertionSortCollider(const Scene* scene)
 	{
-		EngineMemo& m = memo();
-		m.same(scene);
+		const EngineListMemo& m = engineList(scene);
 		for (const auto& e : scene->engines)
 			if (e.get() == m.collider && m.collider) return e;
 		return nullptr;
@@ -97,12 +88,11 @@ namespace flexa {
 
 	bool foreignEngineRanSince(const Scene* scene, long iter)
 	{
-		EngineMemo&                m    = memo();
-		thread_local const Scene*  last = nullptr;
-		thread_local unsigned long gen  = 0;
-		const bool                 same = m.same(scene) && last == scene && gen == m.generation;
-		last                            = scene;
-		gen                             = m.generation;
+		bool            sameList;
+		EngineListMemo& m    = engineList(scene, sameList);
+		const bool      same = sameList && m.foreignAsked && m.foreignSeen == m.generation;
+		m.foreignAsked       = true;
+		m.foreignSeen        = m.generation;
 		if (!same) return true;
 		const auto& engines = scene->engines; // (the memo's list: the places hold the same engines)
 		for (size_t i : m.periodic)
@@ -145,8 +135,8 @@ namespace flexa {
 
 	void checkEngineOrder(const Scene* scene)
 	{
-		EngineMemo& m    = memo();
-		const bool  same = m.same(scene);
+		bool            same;
+		EngineListMemo& m = engineList(scene, same);
 		for (size_t i : m.parallel) // (looked at each time: its slaves can change without a change of the list)
 			if (scene->engines[i]) refuseParallelSlaves(*scene->engines[i], i, *scene->engines[i]);
 		if (same && m.orderChecked) return;

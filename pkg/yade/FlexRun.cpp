@@ -32,7 +32,7 @@ long FlexRun::until(Real time, long maxSteps)
 	if (maxSteps == 0 || !(scene->time < time)) return 0;
 	// what the script may have changed since the last step: checked by the first step in full; the
 	// others run no script in between (a PyRunner's run is seen by the check as in O.run)
-	flexa::checkNextStepInFull();
+	flexa::checkNextStepInFull(scene.get());
 	flexa::ScriptFreeSteps scriptFree;
 	while (n < maxSteps && scene->time < time) {
 		scene->moveToNextTimeStep();
@@ -45,7 +45,7 @@ long FlexRun::until(Real time, long maxSteps)
 		// checked in full)
 		if (n % kSignalEvery == 0) {
 			if (PyErr_CheckSignals() != 0) boost::python::throw_error_already_set();
-			flexa::checkNextStepInFull();
+			flexa::checkNextStepInFull(scene.get());
 		}
 	}
 	return n;

@@ -3,6 +3,7 @@
 #include "FlexSurfaces.hpp"
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
+#include "FlexSceneState.hpp"
 #include "speed/FlexTuning.hpp"
 #include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 #ifdef YADE_OPENMP
 #include <omp.h>
@@ -222,11 +224,7 @@ namespace flexa {
 
 		// What the element pass checks of an element, copied while its shape is at hand (the pass
 		// then reads this table instead of visiting every element's body and shape again).
-		struct ElementRecord {
-			int  nodes[3];
-			int  nNodes;
-			Real radius;
-		};
+		using ElementRecord = SceneCheckMemo::Element;
 
 		// One body's own checks (shape radius, state, material), in that order; records whether it
 		// is a node or an element (and then the element's nodes and radius) for the element pass
@@ -291,40 +289,20 @@ namespace flexa {
 	} // namespace
 
 	namespace {
-		// What the check of the last step saw (per thread: O.run's thread is new at each call, so
-		// its first step is checked in full).
-		struct CheckMemo {
-			const Scene* scene = nullptr;
-			// (and its interaction container, by its shared owner, which the weak reference keeps
-			// from being reused: a scene loaded later where this one was is checked too)
-			boost::weak_ptr<InteractionContainer> container;
-			long                                  iter     = -1;      // of the last step checked, in full or not
-			const void*                           checker  = nullptr; // the engine that asked for it
-			long                                  fullIter = -1;      // of the last full check
-			size_t                                bodies   = 0;
-		};
-		CheckMemo& checkMemo()
-		{
-			// never destroyed (a few dozen bytes per O.run() call): a run thread's exit would
-			// otherwise release its weak reference to a container, outside Python's lock and at
-			// no set time, as the marks of FlexProtocol.hpp avoid
-			thread_local CheckMemo* m = new CheckMemo;
-			return *m;
-		}
 		thread_local int scriptFreeSteps = 0; // ScriptFreeSteps alive in this thread
 
 		// Whether this step needs the full pass: whenever a script can have run since the last
 		// step, or anything but yade-flex's engines can have changed the scene.
-		bool fullCheckDue(const Scene* scene, const CheckMemo& m)
+		bool fullCheckDue(const Scene* scene, const SceneState& st)
 		{
-			if (m.scene != scene || !sameOwner(m.container, scene->interactions)) return true;
-			if (scene->iter != m.iter + 1) return true; // (O.resetTime, a loaded scene)
+			const SceneCheckMemo& m = st.check;
+			if (!m.checked || m.thread != std::this_thread::get_id()) return true; // (O.run's thread is new at each call)
+			if (scene->iter != m.iter + 1) return true;                             // (O.resetTime, a loaded scene)
 			if (scene->iter - m.fullIter >= tuning::kFullCheckPeriod) return true;
 			if (scene->bodies->size() != m.bodies) return true;
 			// the states the last step left: vouched for by FlexNewtonIntegrator's fast path, which
 			// refuses what it makes non-finite
-			const VouchedStep& v = vouchedStep();
-			if (v.scene != scene || v.iter != m.iter) return true;
+			if (st.vouched.iter != m.iter) return true;
 			// a script: O.step() holds Python's lock while the step runs (O.run's thread does not)
 			if (!scriptFreeSteps && PyGILState_Check()) return true;
 			// a PyRunner (or another periodic engine) ran since the last step's check
@@ -332,22 +310,24 @@ namespace flexa {
 		}
 	} // namespace
 
-	void checkNextStepInFull() { checkMemo().scene = nullptr; }
+	void checkNextStepInFull(const Scene* scene) { sceneState(scene).check.checked = false; }
 	ScriptFreeSteps::ScriptFreeSteps() { ++scriptFreeSteps; }
 	ScriptFreeSteps::~ScriptFreeSteps() { --scriptFreeSteps; }
 
 	void checkScene(const Scene* scene, const void* caller)
 	{
-		static std::vector<char>          isNode, isElement; // per body id, filled by the pass over the bodies
-		static std::vector<ElementRecord> elements;          // per body id, valid where isElement
-		CheckMemo&                        memo = checkMemo();
-		if (scene == memo.scene && scene->iter == memo.iter && caller != memo.checker && sameOwner(memo.container, scene->interactions))
+		SceneState&     st   = sceneState(scene);
+		SceneCheckMemo& memo = st.check;
+		if (memo.checked && scene->iter == memo.iter && caller != memo.checker && memo.thread == std::this_thread::get_id())
 			return; // (checked for this step by an engine before)
-		if (!fullCheckDue(scene, memo)) {
+		if (!fullCheckDue(scene, st)) {
 			memo.iter    = scene->iter;
 			memo.checker = caller;
 			return;
 		}
+		std::vector<char>&          isNode    = memo.isNode;
+		std::vector<char>&          isElement = memo.isElement;
+		std::vector<ElementRecord>& elements  = memo.elements;
 		checkEngines(scene);
 		// one pass over the bodies in id order; the elements' nodes are then checked against the
 		// table of node ids, not by visiting the node bodies again
@@ -411,8 +391,8 @@ namespace flexa {
 			checkRadius(*body[id], e.radius);
 		}
 		checkSurfaceSupport(scene);
-		memo.scene     = scene;
-		memo.container = scene->interactions;
+		memo.checked   = true;
+		memo.thread    = std::this_thread::get_id();
 		memo.iter      = scene->iter;
 		memo.checker   = caller;
 		memo.fullIter  = scene->iter;

@@ -35,8 +35,8 @@ namespace flexa {
 	/// iteration is a step run again (after one that threw: a refused step leaves the bodies it
 	/// moved moved, O.iter and O.time where they were) and is checked again.
 	void checkScene(const Scene* scene, const void* caller);
-	/// The next step this thread runs is checked in full (for callers that run steps themselves).
-	void checkNextStepInFull();
+	/// The scene's next step is checked in full (for callers that run steps themselves).
+	void checkNextStepInFull(const Scene* scene);
 	/// While one lives, the steps this thread runs have no script between them although Python's
 	/// lock is held (FlexRun.until: as O.step() it keeps the lock, handing it to other threads would
 	/// cost a switch interval each time it is taken back); the check then does not take the lock

@@ -496,21 +496,14 @@ namespace flexa {
 			if (fastCast<Facet>(sh)) return SurfaceKind::facet;
 			return SurfaceKind::other;
 		}
-		struct SurfaceMemo {
-			const Scene*                scene     = nullptr;
-			const InteractionContainer* container = nullptr;
-			long                        runs = -2, bodies = -1;
-			size_t                      size = 0;
-			std::vector<Body::id_t>     surfaces;
-		};
 	} // namespace
 
 	long addSurfaceNodePairs(Scene* scene)
 	{
-		static SurfaceMemo m;
-		const long         runs   = insertionSortColliderRuns(scene);
-		const long         bodies = (long)scene->bodies->size();
-		const bool         same   = m.scene == scene && m.container == scene->interactions.get() && m.bodies == bodies;
+		SurfacePairsMemo& m      = sceneState(scene).surfacePairs;
+		const long        runs   = insertionSortColliderRuns(scene);
+		const long        bodies = (long)scene->bodies->size();
+		const bool        same   = m.filled && m.bodies == bodies;
 		if (same && runs >= 0 && runs == m.runs && m.size == scene->interactions->size()) return 0;
 		if (!same) {
 			m.surfaces.clear();
@@ -554,8 +547,7 @@ namespace flexa {
 				scene->interactions->insert(I);
 				++made;
 			}
-		m.scene     = scene;
-		m.container = scene->interactions.get();
+		m.filled    = true;
 		m.runs      = runs;
 		m.bodies    = bodies;
 		m.size      = scene->interactions->size();

@@ -164,7 +164,7 @@ void FlexTimeStepper::action()
 	const bool   changed      = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
 	lastInteractionCount      = nIntr;
 	lastColliderRuns          = colliderRuns;
-	if (!markUnreachable && flexa::unreachableMarks().scene == scene) flexa::unreachableMarks().scene = nullptr; // switched off: retire the marks
+	if (!markUnreachable) flexa::sceneState(scene).unreachable.set = false; // switched off: retire the marks
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
 	dtCritical   = criticalImpl(markUnreachable);
 	stiffestBody = stiffestCache;

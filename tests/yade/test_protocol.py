@@ -83,6 +83,59 @@ def test_marks_are_not_read_after_the_engines_are_replaced(scene):
     assert O.forces.f(1)[0] > 0  # pushed away from the first sphere
 
 
+def test_two_scenes_stepped_in_turn_keep_their_own_state(scene):
+    """Each scene has its own engine state (pkg/yade/FlexSceneState.hpp). Two scenes of O, stepped
+    in turn: the marks of the first survive the second's estimates (its marked pair is still left
+    out without being read, no collider run between), and a wire sagging in the second moves exactly
+    as it does alone."""
+    from yadeflex import builders as B
+
+    def marked_pair():
+        sphere((0, 0, 0), 0.01)
+        sphere((0.022, 0.022, 0), 0.01)
+        O.engines = yf.engines(gravity=(0, 0, 0), verlet=0.002)
+        _engine("interactionLoop").quickReject = False  # (the pair left out for its mark only)
+
+    def net():  # a wire clamped at one end, sagging under its own weight, its step estimated at every step
+        B.chain([(0, 0, 0), (0.3, 0, 0)], 0.002, yf.steel(), segments=6, fixed=[0])
+        O.engines = yf.engines(gravity=(0, 0, -9.81))
+        _engine("flexDt").interval = 1
+
+    def positions():
+        return [tuple(b.state.pos) for b in O.bodies if b is not None]
+
+    # the net alone, 40 steps
+    O.reset()
+    net()
+    O.run(40, True)
+    alone = positions()
+    # the two scenes in turn
+    O.reset()
+    marked_pair()
+    O.step()
+    assert _engine("flexDt").unreachablePairs() == [(0, 1)]
+    runs = _engine("collider").numAction
+    other = O.addScene()
+    O.switchToScene(other)
+    net()
+    try:
+        recalled = []
+        for _ in range(40):
+            O.switchToScene(other)
+            O.step()
+            O.switchToScene(0)
+            O.step()
+            recalled.append(_engine("interactionLoop").recalledSkips)
+        # the first scene's mark still read on every step: from its second step on, the loop
+        # leaves the pair out from its record of it, which lasts while the marks are the same
+        assert recalled[1:] == [1] * 39, recalled
+        assert _engine("collider").numAction == runs
+        O.switchToScene(other)
+        assert positions() == alone
+    finally:
+        O.switchToScene(0)
+
+
 @pytest.mark.parametrize("label", ["collider", "flexElements", "flexDt", "newton"])
 def test_engines_inside_a_parallel_engine_are_refused(scene, label):
     """A ParallelEngine runs its slave groups at the same time; the yade-flex engines share the

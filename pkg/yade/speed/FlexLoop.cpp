@@ -4,6 +4,7 @@
 #include "FlexLoopFilters.hpp"
 #include "FlexLoopStep.hpp"
 #include "../FlexProtocol.hpp"
+#include "../FlexSceneState.hpp"
 #include "FlexTuning.hpp"
 #include "../FlexSceneCheck.hpp"
 #include "../FlexSurfaces.hpp"
@@ -59,31 +60,22 @@ void flexa::mergeThreadSums(Scene* scene, ThreadForceSums& sums, int threads, lo
 	}
 }
 
-namespace {
-	struct DeferredEnergy {
-		const char* name;
-		int*        ix;
-		bool        reset;
-		Real        val;
-	};
-	std::mutex                  deferredMutex;
-	std::vector<DeferredEnergy> deferred; // (a few entries, on the steps a term first appears)
-} // namespace
-
-void flexa::deferEnergy(Real val, const char* name, int& ix, bool reset)
+void flexa::deferEnergy(Scene* scene, Real val, const char* name, int& ix, bool reset)
 {
-	std::lock_guard<std::mutex> lock(deferredMutex);
-	deferred.push_back(DeferredEnergy { name, &ix, reset, val });
+	DeferredEnergies&           d = sceneState(scene).deferred;
+	std::lock_guard<std::mutex> lock(d.m);
+	d.terms.push_back(DeferredEnergies::Term { name, &ix, reset, val });
 }
 
 void flexa::bookDeferredEnergies(Scene* scene)
 {
-	std::lock_guard<std::mutex> lock(deferredMutex);
-	for (const DeferredEnergy& d : deferred) {
-		if (*d.ix < 0) scene->energy->findId(d.name, *d.ix, d.reset);
-		scene->energy->energies.add(*d.ix, d.val);
+	DeferredEnergies&           d = sceneState(scene).deferred;
+	std::lock_guard<std::mutex> lock(d.m);
+	for (const DeferredEnergies::Term& t : d.terms) {
+		if (*t.ix < 0) scene->energy->findId(t.name, *t.ix, t.reset);
+		scene->energy->energies.add(*t.ix, t.val);
 	}
-	deferred.clear();
+	d.terms.clear();
 }
 
 // Whether this step needs InteractionLoop's own loop (and runs it): callbacks, sorted

@@ -47,7 +47,7 @@ namespace flexa {
 			Marked(const Scene* scene, const std::vector<const IGeomFunctor*>* r)
 			        : readers(r)
 			{
-				const flexa::UnreachableMarks& m = flexa::unreachableMarks();
+				const flexa::UnreachableMarks& m = flexa::sceneState(scene).unreachable;
 				valid                            = m.valid(scene);
 				if (valid) {
 					pairs  = m.pair.data();

@@ -228,7 +228,7 @@ public:
 	void startRecords()
 	{
 		if (L.rememberSkips) {
-			const unsigned long marksGen = marked.valid ? flexa::unreachableMarks().generation : 0;
+			const unsigned long marksGen = marked.valid ? flexa::sceneState(scene).unreachable.generation : 0;
 			const bool          quick    = apart.readers != nullptr;
 			const bool          newQuick = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
 			const bool          newMarked

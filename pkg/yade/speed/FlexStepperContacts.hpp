@@ -129,13 +129,13 @@ namespace flexa {
 			        , canSkip(skipUnreachable && !s->isPeriodic && flexa::insertionSortColliderRuns(s) >= 0) // (the gaps ignore periodic images)
 			        , mark(mark)
 			        , skippedOut(skippedOut)
-			        , marks(flexa::unreachableMarks())
+			        , marks(flexa::sceneState(s).unreachable)
 			        , row(sb.size(), 0)
 			        , rowRot(sb.size(), 0)
 			{
 				findLaw();
 				if (mark) {
-					marks.scene = nullptr;
+					marks.set = false;
 					++marks.generation;
 					marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
 				}
@@ -188,14 +188,13 @@ namespace flexa {
 						rowRot[i] += moreRows[2 * (t - 1) + 1][i];
 					}
 				skippedCount = skipped;
-				if (mark && canSkip) { // valid until the collider runs (else none: marks.scene stays null)
+				if (mark && canSkip) { // valid until the collider runs (else none: marks.set stays false)
 					const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
 					marks.collider                    = collider;
 					marks.runs                        = &static_cast<const InsertionSortCollider&>(*collider).numAction;
 					marks.runsAtMarking               = *marks.runs;
-					marks.interactions                = scene->interactions;
 					marks.colliderIx = std::find(scene->engines.begin(), scene->engines.end(), collider) - scene->engines.begin();
-					marks.scene      = scene;
+					marks.set        = true;
 				}
 				Real w2  = 0;
 				stiffest = -1;
