@@ -21,6 +21,7 @@ from .rope import rope_around
 from .output import VtkRecorder, write_vtk_snapshot, EnergyRecorder, read_csv, plot_timeseries, plot_energy
 from .view import view, snapshot, scene_box, color_by_part
 from . import parts
+from .module_ids import ModuleIds
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",

@@ -10,6 +10,7 @@ from .constants import G
 from .scene import step_until
 from .fill import fill_top, _sphere_body
 from .fill_cache import filled_module
+from .module_ids import ModuleIds
 
 
 def add_boulder(params, ids, gap=0.005):
@@ -17,6 +18,7 @@ def add_boulder(params, ids, gap=0.005):
     top ring), moving down with the free-fall speed of params (drop height reduced by the
     gap, so that it reaches the fill top at sqrt(2 g h)). Returns its body id."""
     params.validate()
+    ids = ModuleIds.of(ids)
     top = max(fill_top(ids), max(O.bodies[n].state.pos[2] for n in ids["mesh_nodes"]) + 0.5 * params.ring_bar_diameter)
     s = params.boulder_size()
     v_top = params.impact_speed()
@@ -64,7 +66,7 @@ def scale_lining_nodes(ids, m_min):
     press on them. The mass added weighs too (gravity acts on it). Returns (mass added, the
     lining's own mass) [kg]; m_min = 0 changes nothing."""
     added = own = 0.0
-    for m in ids["modules"]:
+    for m in ModuleIds.of(ids).modules:
         for n in m.get("lining_nodes", []):
             b = O.bodies[n]
             if b is None or not b.dynamic:

@@ -1,7 +1,6 @@
 """Filling the damping module (stages 1-2 of yadeflex.module): the grains settled in a container,
 then the mesh, rings and lining built around them and settled with them."""
 import dataclasses
-import json
 import math
 import random
 
@@ -14,6 +13,7 @@ from .constants import G
 from . import checks as C
 from . import membrane as M
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
+from .module_ids import ModuleIds, ModuleStructureIds
 from .scene import engines, step_until
 from .module_params import (FILL_TIMESTEP_SAFETY, LIMITS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams,
                             fill_radii, lining_cells_around)
@@ -288,9 +288,9 @@ def build_filled(params, progress=None):
     heavier = _heavier_nodes(min(MAX_NODE_MASS_SCALING, (dt_fill / O.dt) ** 2))
     _settle(10 * ke_tol, 300000, progress=progress and (lambda s, ke, tol: progress("structure", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
     _restore_nodes(heavier)
-    ids = dict(per[0], wall=wall, grains=grains, modules=per, rope=rope["cylinders"], rope_nodes=rope["nodes"],
-               base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
-    O.tags["yadeflex_module"] = json.dumps(ids)
+    ids = ModuleIds(wall=wall, grains=list(grains), modules=[ModuleStructureIds.from_dict(m) for m in per], rope=list(rope["cylinders"]),
+                    rope_nodes=list(rope["nodes"]), base_nodes=sorted({n for m in per for n in m["base_nodes"]}))
+    O.tags["yadeflex_module"] = ids.to_json()
     return ids
 
 

@@ -9,6 +9,7 @@ import tempfile
 from yade import O
 
 from .fill import build_filled
+from .module_ids import ModuleIds
 
 
 CACHE_FORMAT = "yadeflex filled module"
@@ -156,7 +157,7 @@ def filled_module(params, cache_dir=None, progress=None):
                     if stored == key:
                         # (outside the try: an error here is not the cache file's, and filling again would not mend it)
                         O.engines = params.engines(params.damping)
-                        return json.loads(O.tags["yadeflex_module"]), f, True
+                        return ModuleIds.from_json(O.tags["yadeflex_module"]), f, True
                     problem = f"holds the module {stored!r}, not {key!r}"
                 O.reset()
             if problem != "missing":
@@ -182,4 +183,4 @@ def filled_module(params, cache_dir=None, progress=None):
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-    return json.loads(O.tags["yadeflex_module"]), f, False
+    return ModuleIds.from_json(O.tags["yadeflex_module"]), f, False

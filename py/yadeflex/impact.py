@@ -5,7 +5,7 @@ bookkeeping.
   folder, row by row; returns the summary, with the exit status. fill_only: the filled module
   into the cache, nothing else (the main job's --fill-only). RunSettings: how it is run and
   judged. ImpactRun: one such run; EXIT: its exit status by how it ended.
-- part_names, part_name: which part of the module a body is; BrokenElements: what broke, by kind.
+- part_name: which part of the module a body is; BrokenElements: what broke, by kind.
 - ImpactTimes: when the run ends and when it is expected to end; Progress, fill_progress: the
   progress lines of the impact and of the fill; unstable_body: the first non-finite body.
 """
@@ -27,6 +27,7 @@ from .files import CsvStream, ResultsFolder, overwrite_json, write_failure, writ
 from .impact_plots import write_plots
 from .constants import G
 from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, UNBALANCED_TOL
+from .module_ids import BROKEN_KINDS, ModuleIds
 from .output import VtkRecorder
 from .params import param, RUN
 from .parts import scene_parts
@@ -39,38 +40,12 @@ EXIT = dict(done=0, failed=1, unstable=2, residual=3, SIGINT=130, SIGTERM=143)  
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
 VTK_FOLDER, VTK_PREFIX = "vtk", "flex"
 
-# (key of the module's ids, name of one such body), in the order a body is looked up
-PARTS = (("grains", "grain"), ("mesh_cylinders", "wire leg"), ("lining", "lining facet"), ("mesh_nodes", "mesh node"),
-         ("ring_top", "top ring"), ("ring_bottom", "bottom ring"), ("rope", "rope"), ("lining_nodes", "lining node"),
-         ("rope_nodes", "rope node"))
 # unit of each column of timeseries.csv (its header reads NAME[UNIT])
 TIMESERIES_UNITS = dict(t="s", boulder_z="m", boulder_vz="m/s", boulder_az="m/s2", impact_force="N", penetration="m", slab_force="N",
                         bulge_max="m", bulge_mean="m", ring_top_force="N", ring_bottom_force="N", rope_force="N", broken_wires="-",
                         broken_ring_segments="-", broken_rope_segments="-", broken_lining_facets="-", dt="s")
-# summary key of broken elements -> keys of the module's ids holding such elements
-BROKEN_KINDS = (("broken_wire_legs", ("mesh_cylinders",)), ("broken_ring_segments", ("ring_top", "ring_bottom")),
-                ("broken_rope_segments", ("rope",)), ("broken_lining_facets", ("lining",)))
-
-
-def bodies_of(ids, key):
-    """Set of the body ids under key in the module's ids (module.build_filled): the whole
-    scene's (grains, rope) and every module's (mesh, rings, lining), not the first module's only."""
-    out = set(ids.get(key, ()))
-    for m in ids.get("modules", ()):
-        out.update(m.get(key, ()))
-    return out
-
-
-def part_names(ids):
-    """dict body id -> part name ('wire leg', 'lining facet', ...) over all modules."""
-    names = {}
-    for key, name in reversed(PARTS):  # the first of PARTS wins
-        names.update(dict.fromkeys(bodies_of(ids, key), name))
-    return names
-
-
 def part_name(bid, names):
-    """'grain #12', 'wire leg #300', ...: which part of the module a body is (names: part_names)."""
+    """'grain #12', 'wire leg #300', ...: which part of the module a body is (names: ModuleIds.names())."""
     if bid is None or bid < 0 or bid >= len(O.bodies):
         return "no body"
     if bid in names:
@@ -83,17 +58,14 @@ def part_name(bid, names):
 
 class BrokenElements:
     """Counts of ruptured elements by kind (FlexElementEngine.rupturedIds: every element it
-    erased, of any kind): the BROKEN_KINDS keys, broken_other_elements (an element of none of
-    those kinds) and broken_elements_total, their sum."""
+    erased, of any kind): the BROKEN_KINDS keys (yadeflex.module_ids), broken_other_elements (an
+    element of none of those kinds) and broken_elements_total, their sum."""
 
     def __init__(self, ids):
-        self.kind = {}
-        for name, keys in BROKEN_KINDS:
-            for k in keys:
-                self.kind.update(dict.fromkeys(bodies_of(ids, k), name))
+        self.kind = ModuleIds.of(ids).broken_kinds()
 
     def counts(self, ruptured_ids):
-        c = dict.fromkeys([name for name, _ in BROKEN_KINDS] + ["broken_other_elements"], 0)
+        c = dict.fromkeys(list(BROKEN_KINDS) + ["broken_other_elements"], 0)
         for i in ruptured_ids:
             c[self.kind.get(i, "broken_other_elements")] += 1
         c["broken_elements_total"] = len(ruptured_ids)
@@ -276,13 +248,12 @@ class ImpactRun:
         ids, self.cache_file, self.cached = filled_module(p, cache_dir=self.cache_dir, progress=fill_progress(self.t_wall) if self.show_progress else None)
         self.t_fill = time.time() - self.t_wall
         print(f"filled module {'loaded from' if self.cached else 'built and saved to'} {self.cache_file} ({self.t_fill:.0f} s): "
-              f"{len(ids['grains'])} grains, {sum(len(m['mesh_cylinders']) for m in ids['modules'])} wire legs, "
-              f"{sum(len(m['lining']) for m in ids['modules'])} lining facets"
-              + (f" in {len(ids['modules'])} modules" if len(ids["modules"]) > 1 else ""))
+              f"{len(ids.grains)} grains, {len(ids.bodies('mesh_cylinders'))} wire legs, {len(ids.bodies('lining'))} lining facets"
+              + (f" in {len(ids.modules)} modules" if len(ids.modules) > 1 else ""))
         self.stage = "impact"
         # (summary.json follows the run: a process killed outright during the impact leaves "impact")
         write_json(self.folder.file("summary.json"), dict(status="running", stage=self.stage, pid=os.getpid()))
-        self.ids, self.names, self.broken = ids, part_names(ids), BrokenElements(ids)
+        self.ids, self.names, self.broken = ids, ids.names(), BrokenElements(ids)
         self.top0 = fill_top(ids)
         self.lining_added, self.lining_own = scale_lining_nodes(ids, p.lining_node_mass)
         if self.lining_added > 0:

@@ -2,7 +2,8 @@
 granular fill on a rigid slab, hit by a boulder. One builder with declared parameters, used
 by the main job (scripts/damping_module.py), the tests and parametric studies. By concept:
 module_params (ModuleParams, the presets), fill (stages 1-2), fill_cache (the cache of filled
-modules), boulder (stage 3); this module gathers their names.
+modules), boulder (stage 3), module_ids (ModuleIds: the bodies of a filled module); this module
+gathers their names.
 
 Stages
   1. fill: grains placed on a close-packed lattice in a rigid, frictionless cylindrical
@@ -41,3 +42,4 @@ from .fill_cache import (  # noqa: F401
     cache_problem, _remove_stale_temps, filled_module)
 from .boulder import (  # noqa: F401
     add_boulder, touches, scale_lining_nodes, impact_start)
+from .module_ids import ModuleIds, ModuleStructureIds  # noqa: F401

@@ -21,28 +21,12 @@ PART = {name: k for k, name in enumerate(PARTS)}
 COLORS = dict(other=(0.85, 0.85, 0.85), mesh=(0.10, 0.30, 0.95), ring=(0.95, 0.08, 0.08), rope=(0.0, 0.70, 0.75),
               lining=(0.10, 0.75, 0.15), slab=(0.55, 0.55, 0.55), grain=(0.80, 0.70, 0.45), boulder=(0.85, 0.10, 0.85))
 
-# keys of the module's ids (yadeflex.module.build_filled) -> part; a key of the whole scene or of
-# each of its modules ("modules": one dict per module)
-MODULE_KEYS = (("grains", "grain"), ("wall", "slab"), ("mesh_cylinders", "mesh"), ("mesh_nodes", "mesh"),
-               ("ring_top", "ring"), ("ring_bottom", "ring"), ("rope", "rope"), ("rope_nodes", "rope"),
-               ("lining", "lining"), ("lining_nodes", "lining"))
-
-
-def _ids(value):
-    if isinstance(value, int):
-        return (value,)
-    return value or ()
-
-
 def module_parts(ids):
-    """dict body id -> part id from the module's ids (every module's mesh, rings, lining, and
-    the scene's grains, slab and rope); a ring's nodes are mesh nodes. A body under two keys
-    takes the later key of MODULE_KEYS."""
-    out = {}
-    for key, part in MODULE_KEYS:
-        for d in [ids] + list(ids.get("modules", ())):
-            out.update(dict.fromkeys(_ids(d.get(key)), PART[part]))
-    return out
+    """dict body id -> part id from the module's ids (yadeflex.module_ids.ModuleIds or its stored
+    dictionary): every module's mesh, rings and lining, and the scene's grains, slab and rope; a
+    ring's nodes are mesh nodes."""
+    from .module_ids import ModuleIds
+    return {i: PART[name] for i, name in ModuleIds.of(ids).parts().items()}
 
 
 def scene_parts():

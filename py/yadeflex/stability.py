@@ -162,7 +162,7 @@ def module(small=True, speed=None, t_cap=0.08):
             st["rebound"] = O.time
         return st["rebound"] is not None and O.time > st["rebound"] + 0.005
 
-    parts = {k: set(ids[key]) for k, key in (("grain", "grains"), ("lining node", "lining_nodes"), ("mesh node", "mesh_nodes"))}
+    parts = {k: ids.bodies(key) for k, key in (("grain", "grains"), ("lining node", "lining_nodes"), ("mesh node", "mesh_nodes"))}
     return Case(t_end=t_cap, done=done, module=True, info=dict(boulder=bid, rebound=st, speed=p.impact_speed(), parts=parts))
 
 

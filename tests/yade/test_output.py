@@ -347,6 +347,35 @@ def test_module_parts_from_the_module_ids(scene):
         P.contact_kind_name(76)
 
 
+def test_module_ids_are_typed_and_read_as_their_stored_dictionary():
+    """ModuleIds (yadeflex.module_ids): made from the stored dictionary, it reads as it (the top
+    level also as the first module), stores back the same, gathers a key over every module, and
+    names a body by the first key it is under; anything else is refused with its reason."""
+    from yadeflex.module_ids import ModuleIds, ModuleStructureIds
+    m0 = dict(center=[0.0, 0.0], mesh_cylinders=[10], mesh_nodes=[11, 12], ring_top=[13], ring_bottom=[14], lining=[20],
+              lining_nodes=[21], base_nodes=[11], mesh_params=dict(opening=0.083))
+    m1 = dict(center=[1.0, 0.0], mesh_cylinders=[40], mesh_nodes=[41], ring_top=[42], ring_bottom=[43], lining=[44],
+              lining_nodes=[45], base_nodes=[41], mesh_params=dict(opening=0.083))
+    stored = dict(m0, wall=0, grains=[1, 2], modules=[m0, m1], rope=[30], rope_nodes=[31], base_nodes=[11, 41])
+    ids = ModuleIds.of(stored)
+    assert isinstance(ids.modules[1], ModuleStructureIds) and ids.modules[1].center == (1.0, 0.0)
+    assert ids.to_dict() == stored and ModuleIds.from_json(ids.to_json()) == ids
+    assert ids["mesh_nodes"] == [11, 12] and ids["grains"] == [1, 2] and ids.get("rope") == [30] and "lining" in ids
+    assert dict(ids)["modules"][1]["lining"] == [44]
+    assert ids.bodies("mesh_nodes") == {11, 12, 41} and ids.bodies("wall") == {0} and ids.bodies("rope") == {30}
+    assert ids.names()[13] == "top ring" and ids.names()[44] == "lining facet" and 0 not in ids.names()
+    assert ids.parts()[0] == "slab" and ids.parts()[45] == "lining" and ids.parts()[31] == "rope"
+    assert ids.broken_kinds() == {10: "broken_wire_legs", 40: "broken_wire_legs", 13: "broken_ring_segments", 14: "broken_ring_segments",
+                                  42: "broken_ring_segments", 43: "broken_ring_segments", 20: "broken_lining_facets",
+                                  44: "broken_lining_facets", 30: "broken_rope_segments"}
+    with pytest.raises(TypeError, match="no 'modules' key"):
+        ModuleIds.of({"lining_nodes": [21]})
+    with pytest.raises(TypeError, match="lining must be a list of body ids"):
+        ModuleIds.of(dict(modules=[dict(lining=7)]))
+    with pytest.raises(KeyError, match="no key 'meshnodes'"):
+        ids.bodies("meshnodes")
+
+
 def test_vtk_broken_elements_stay_as_broken(scene, tmp_path):
     """An element erased as ruptured stays in the later frames, between its nodes, broken = 1,
     with no force; the series time counts from time_origin and SceneTime is O.time."""

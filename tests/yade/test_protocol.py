@@ -3,7 +3,6 @@ order yadeflex.engines() builds, and refuse another with an error naming the eng
 time stepper's marks of unreachable pairs hold until the collider runs."""
 import pytest
 from yade import O
-from yade.wrapper import FlexTimeStepper
 
 import yadeflex as yf
 from yadeflex.scenes import sphere
