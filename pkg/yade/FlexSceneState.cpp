@@ -5,60 +5,47 @@
 
 namespace yade {
 namespace flexa {
+	std::atomic<const SceneEntry*> lastSceneEntry { nullptr };
+
 	namespace {
-		// A state with the scene it belongs to: the scene's address and its interaction container's
-		// owner (a scene loaded later at the same address has another container).
-		struct Entry {
-			const Scene*                          scene = nullptr;
-			boost::weak_ptr<InteractionContainer> container;
-			std::unique_ptr<SceneState>           state;
-		};
 		struct Registry {
-			std::mutex         m;
-			std::vector<Entry> entries;
+			std::mutex                                                    m;
+			std::vector<std::unique_ptr<SceneEntry>>                      entries; // never freed: lastSceneEntry may point at any
+			std::vector<std::pair<SceneEntry*, std::unique_ptr<SceneState>>> live;    // the entries of scenes not released, with their states
 		};
-		// never destroyed: an engine may still ask during YADE's own teardown, and a thread's exit
-		// would otherwise release weak references outside Python's lock, at no set time
+		// never destroyed: an engine may still ask during YADE's own teardown, and the weak
+		// references would otherwise be released at no set time
 		Registry& registry()
 		{
 			static Registry* r = new Registry;
 			return *r;
 		}
-		struct LastAsked {
-			const Scene*                          scene = nullptr;
-			boost::weak_ptr<InteractionContainer> container;
-			SceneState*                           state = nullptr;
-		};
 	} // namespace
 
-	SceneState& sceneState(const Scene* scene)
+	SceneState& sceneStateOf(const Scene* scene)
 	{
-		thread_local LastAsked* last = new LastAsked; // (never destroyed, as the registry)
-		if (last->scene == scene && sameOwner(last->container, scene->interactions)) return *last->state;
 		Registry&                   r = registry();
 		std::lock_guard<std::mutex> lock(r.m);
-		SceneState*                 found = nullptr;
-		for (const Entry& e : r.entries)
-			if (e.scene == scene && sameOwner(e.container, scene->interactions)) found = e.state.get();
+		SceneEntry*                 found = nullptr;
+		for (const auto& l : r.live)
+			if (l.first->scene == scene && sameOwner(l.first->container, scene->interactions)) found = l.first;
 		if (!found) {
-			// the states of released scenes go (a thread's LastAsked may still point at one: its
-			// container's owner, kept by the weak reference, matches no live scene's, so it is never
-			// read again)
-			std::vector<Entry> kept;
-			for (Entry& e : r.entries)
-				if (!e.container.expired()) kept.push_back(std::move(e));
-			r.entries.swap(kept);
-			Entry e;
-			e.scene     = scene;
-			e.container = scene->interactions;
-			e.state.reset(new SceneState);
-			found = e.state.get();
-			r.entries.push_back(std::move(e));
+			// the states of released scenes go; their entries stay (a reader may hold one: its
+			// container's owner, kept by the weak reference, matches no live scene's, so its state
+			// is never read)
+			std::vector<std::pair<SceneEntry*, std::unique_ptr<SceneState>>> kept;
+			for (auto& l : r.live)
+				if (!l.first->container.expired()) kept.push_back(std::move(l));
+			r.live.swap(kept);
+			r.entries.emplace_back(new SceneEntry);
+			found            = r.entries.back().get();
+			found->scene     = scene;
+			found->container = scene->interactions;
+			r.live.emplace_back(found, std::unique_ptr<SceneState>(new SceneState));
+			found->state = r.live.back().second.get();
 		}
-		last->scene     = scene;
-		last->container = scene->interactions;
-		last->state     = found;
-		return *found;
+		lastSceneEntry.store(found, std::memory_order_release);
+		return *found->state;
 	}
 } // namespace flexa
 } // namespace yade

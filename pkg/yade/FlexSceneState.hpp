@@ -11,6 +11,7 @@
 #include "FlexPch.hpp"
 
 #include <boost/weak_ptr.hpp>
+#include <atomic>
 #include <mutex>
 #include <thread>
 #include <typeinfo>
@@ -137,9 +138,27 @@ namespace flexa {
 		SurfacePairsMemo surfacePairs;
 	};
 
-	/// The scene's state, made at the first call for a scene. Any thread may ask, at any time (each
-	/// thread remembers the last scene it asked for: a pointer comparison and an owner comparison
-	/// then). States of scenes released are freed when a new scene asks for its own.
-	SceneState& sceneState(const Scene* scene);
+	/// A scene's state with what tells its scene apart: the scene's address and its interaction
+	/// container's owner (a scene loaded later at the same address has another container). Kept
+	/// for the life of the process (a few dozen bytes per scene); the state goes with its scene.
+	struct SceneEntry {
+		const Scene*                          scene = nullptr;
+		boost::weak_ptr<InteractionContainer> container;
+		SceneState*                           state = nullptr;
+	};
+	/// The entry of the scene asked for last (null at first), read by every thread.
+	extern std::atomic<const SceneEntry*> lastSceneEntry;
+	/// sceneState when the scene is not the one asked for last: finds or makes its state.
+	SceneState& sceneStateOf(const Scene* scene);
+
+	/// The scene's state, made at the first call for a scene. Any thread may ask, at any time (the
+	/// scene asked for last is a load and two comparisons away). States of scenes released are
+	/// freed when a new scene asks for its own.
+	inline SceneState& sceneState(const Scene* scene)
+	{
+		const SceneEntry* e = lastSceneEntry.load(std::memory_order_acquire);
+		if (e && e->scene == scene && sameOwner(e->container, scene->interactions)) return *e->state;
+		return sceneStateOf(scene);
+	}
 } // namespace flexa
 } // namespace yade
