@@ -1,5 +1,6 @@
 // yade-flex adapter: FlexGuard (GPL-2.0-or-later). Definitions: FlexGuard.hpp.
 #include "FlexGuard.hpp"
+#include "FlexRefuse.hpp"
 #include "FlexUnstable.hpp"
 #include "FlexFacet.hpp"
 
@@ -28,11 +29,7 @@ namespace {
 
 void FlexGuard::validate() const
 {
-	auto bad = [](const std::string& name, Real v, const char* need) {
-		std::ostringstream os;
-		os << "FlexGuard." << name << " must be " << need << ", got " << v;
-		throw std::invalid_argument(os.str());
-	};
+	auto bad = [this](const char* name, Real v, const char* need) { flexa::refuseAttribute(*this, name, v, need); };
 	if (interval < 1) bad("interval", interval, ">= 1");
 	if (!(maxStepFraction > 0)) bad("maxStepFraction", maxStepFraction, "> 0 (inf: off)");
 	if (!(maxSpeed > 0)) bad("maxSpeed", maxSpeed, "> 0 (inf: off)");

@@ -1,5 +1,6 @@
 // yade-flex adapter: the scene check (GPL-2.0-or-later). What and why: FlexSceneCheck.hpp.
 #include "FlexSceneCheck.hpp"
+#include "FlexRefuse.hpp"
 #include "FlexSurfaces.hpp"
 #include "FlexElements.hpp"
 #include "FlexProtocol.hpp"
@@ -156,15 +157,6 @@ namespace flexa {
 	} // namespace
 
 	namespace {
-		template <class E> [[noreturn]] void refuseEngine(const E& e, const char* field, Real v, const char* need)
-		{
-			std::ostringstream os;
-			os.precision(6);
-			os << e.getClassName();
-			if (!e.label.empty()) os << " '" << e.label << "'";
-			os << "." << field << " must be " << need << ", got " << v;
-			throw std::invalid_argument(os.str());
-		}
 		// YADE's own InteractionLoop with the yade-flex geometry functors, on several threads: it
 		// frees the objects of a contact that ends while a neighbouring contact's functor, on
 		// another thread, reads them (the shear handed over, flexa::takeOverShear);
@@ -196,19 +188,19 @@ namespace flexa {
 			checkEngineOrder(scene);
 			for (const auto& e : scene->engines) {
 				if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) {
-					if (!(nw->damping >= 0 && nw->damping < 1)) refuseEngine(*nw, "damping", nw->damping, "in [0, 1)");
+					if (!(nw->damping >= 0 && nw->damping < 1)) refuseAttribute(*nw, "damping", nw->damping, "in [0, 1)");
 					for (int k = 0; k < 3; ++k)
-						if (!std::isfinite(nw->gravity[k])) refuseEngine(*nw, "gravity", nw->gravity[k], "finite");
+						if (!std::isfinite(nw->gravity[k])) refuseAttribute(*nw, "gravity", nw->gravity[k], "finite");
 				} else if (const InteractionLoop* il = dynamic_cast<const InteractionLoop*>(e.get())) {
 					refuseThreadedPlainLoop(*il);
 					for (const auto& f : il->lawDispatcher->functors)
 						if (const auto* law = dynamic_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(f.get())) {
 							if (!(std::isfinite(law->rollingStiffness) && law->rollingStiffness >= 0))
-								refuseEngine(*law, "rollingStiffness", law->rollingStiffness, "finite and >= 0");
+								refuseAttribute(*law, "rollingStiffness", law->rollingStiffness, "finite and >= 0");
 							if (!(std::isfinite(law->rollingFriction) && law->rollingFriction >= 0))
-								refuseEngine(*law, "rollingFriction", law->rollingFriction, "finite and >= 0");
+								refuseAttribute(*law, "rollingFriction", law->rollingFriction, "finite and >= 0");
 							if (!(std::isfinite(law->onsetFactor) && law->onsetFactor > 0))
-								refuseEngine(*law, "onsetFactor", law->onsetFactor, "finite and positive");
+								refuseAttribute(*law, "onsetFactor", law->onsetFactor, "finite and positive");
 						}
 				}
 			}

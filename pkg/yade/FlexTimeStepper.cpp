@@ -2,6 +2,7 @@
 // (GPL-2.0-or-later). Declaration: FlexTimeStepper.hpp; the contact rows' derivation:
 // pkg/kernel/ContactRows.hpp.
 #include "speed/FlexStepperContacts.hpp"
+#include "FlexRefuse.hpp"
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
@@ -140,11 +141,7 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 
 void FlexTimeStepper::validate() const
 {
-	auto bad = [](const char* name, Real v, const char* need) {
-		std::ostringstream os;
-		os << "FlexTimeStepper." << name << " must be " << need << ", got " << v;
-		throw std::invalid_argument(os.str());
-	};
+	auto bad = [this](const char* name, Real v, const char* need) { flexa::refuseAttribute(*this, name, v, need); };
 	if (interval < 1) bad("interval", interval, ">= 1");
 	if (!(safety > 0) || safety > 1) bad("safety", safety, "in (0, 1]");
 	if (!(minDtFraction >= 0) || !std::isfinite(minDtFraction)) bad("minDtFraction", minDtFraction, "finite and >= 0");

@@ -69,3 +69,21 @@ def test_massless_free_node_rejected_before_running(scene):
     yf.node((0, 0, 0), 0.01)
     with pytest.raises(ValueError, match="no mass"):
         yf.engines()
+
+
+@pytest.mark.parametrize("label, cls, attr, value", [("newton", "FlexNewtonIntegrator", "damping", 1.5),
+                                                     ("flexDt", "FlexTimeStepper", "safety", 2.0),
+                                                     ("guard", "FlexGuard", "interval", 0),
+                                                     ("flexLaw", "Law2_FlexContactGeom_FrictPhys_CundallStrack", "onsetFactor", -1.0)])
+def test_an_engine_attribute_out_of_range_is_named_in_one_wording(scene, label, cls, attr, value):
+    """Whether refused when set (FlexTimeStepper, FlexGuard) or at the next step (the integrator and
+    the contact law, which YADE defines): one wording, naming the class, the attribute, the range,
+    the value and the label."""
+    from yade.wrapper import FlexGuard
+    sphere((0, 0, 0), 0.01)
+    O.engines = yf.engines() + [FlexGuard(label="guard")]
+    eng = yf.contact_law() if label == "flexLaw" else next(e for e in O.engines if e.label == label)
+    want = rf"^{cls}\.{attr} must be .+, got {value:g} \(the one labelled '{label}'\)$"
+    with pytest.raises(ValueError, match=want):
+        setattr(eng, attr, value)
+        O.step()
