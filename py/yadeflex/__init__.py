@@ -22,6 +22,7 @@ from .output import VtkRecorder, write_vtk_snapshot, EnergyRecorder, read_csv, p
 from .view import view, snapshot, scene_box, color_by_part
 from . import parts
 from .module_ids import ModuleIds
+from .mass_scaling import scale_node_masses
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",

@@ -11,6 +11,7 @@ from .scene import step_until
 from .fill import fill_top, _sphere_body
 from .fill_cache import filled_module
 from .module_ids import ModuleIds
+from .mass_scaling import scale_node_masses
 
 
 def add_boulder(params, ids, gap=0.005):
@@ -59,24 +60,14 @@ def touches(bid):
 
 
 def scale_lining_nodes(ids, m_min):
-    """Mass scaling of the lining for the impact: every dynamic lining node gets at least the mass
-    m_min [kg], its rotational inertia scaled by the same factor. The geotextile's own nodes weigh
-    about a gram; pressed between grains and wires they would set the time step of the whole
-    impact (FlexTimeStepper's stiffest body), while their inertia is small beside the grains that
-    press on them. The mass added weighs too (gravity acts on it). Returns (mass added, the
-    lining's own mass) [kg]; m_min = 0 changes nothing."""
+    """Mass scaling of every module's lining for the impact (yadeflex.mass_scaling): every dynamic
+    lining node gets at least the mass m_min [kg]. The geotextile's own nodes weigh about a gram;
+    pressed between grains and wires they would set the time step of the whole impact. Returns
+    (mass added, the lining's own mass) [kg]; m_min = 0 changes nothing."""
     added = own = 0.0
     for m in ModuleIds.of(ids).modules:
-        for n in m.get("lining_nodes", []):
-            b = O.bodies[n]
-            if b is None or not b.dynamic:
-                continue
-            own += b.state.mass
-            if b.state.mass < m_min:
-                f = m_min / b.state.mass
-                added += m_min - b.state.mass
-                b.state.mass = m_min
-                b.state.inertia = Vector3(b.state.inertia) * f
+        a, o = scale_node_masses(m.lining_nodes, m_min)
+        added, own = added + a, own + o
     return added, own
 
 

@@ -15,7 +15,7 @@ from . import membrane as M
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
 from .module_ids import ModuleIds, ModuleStructureIds
 from .scene import engines, step_until
-from .module_params import (FILL_TIMESTEP_SAFETY, LIMITS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams,
+from .module_params import (FILL_TIMESTEP_SAFETY, FILLS, LIMITS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams, check_fill,
                             fill_radii, lining_cells_around)
 
 
@@ -136,9 +136,28 @@ def settle_fill(params, r_in, rnd, progress=None):
     return wall, grains, ke_tol
 
 
+PRESET_KEYS = ("grain_min", "grain_max", "density", "friction_deg", "young", "rolling_friction")
+
+
+def fill_preset(p):
+    """The fill preset (a dict of PRESET_KEYS) of p: a ModuleParams (its preset(), with its
+    overrides), the name of a preset of FILLS, or a preset dict (checked for its keys)."""
+    if isinstance(p, ModuleParams):
+        return p.preset()
+    if isinstance(p, str):
+        return dict(FILLS[check_fill(p)])
+    if isinstance(p, dict):
+        missing = [k for k in PRESET_KEYS if k not in p]
+        if missing:
+            raise C.BadValue("fill preset", p, f"a dict with the keys {', '.join(PRESET_KEYS)} (missing {', '.join(missing)})")
+        return p
+    raise C.BadValue("fill preset", p, "a ModuleParams, the name of a preset (" + ", ".join(sorted(FILLS)) + ") or a preset dict")
+
+
 def fill_engines(p, damping, friction=True):
-    """yadeflex.engines() for grains of preset p settling at the filling's step: with p's rolling
-    resistance, or (friction False) with none."""
+    """yadeflex.engines() for grains of preset p (fill_preset: ModuleParams, preset name or dict)
+    settling at the filling's step: with p's rolling resistance, or (friction False) with none."""
+    p = fill_preset(p)
     rf = p["rolling_friction"] if friction else 0.0
     return engines(damping=damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
@@ -169,7 +188,11 @@ def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.s
     kinetic energy and unbalanced force, local damping `damping`), and trimmed to the height H.
     rough_floor > 0: a fixed monolayer of the largest grains covers the floor out to that
     radius, and the fill starts on it. keep_container: the container stays (else removed).
-    Returns (wall id, grain ids, the kinetic-energy tolerance used, the container's facet ids)."""
+    p: a ModuleParams, a preset's name or a preset dict (fill_preset). progress, if given, is
+    called as progress(stage, steps, kinetic energy [J], its tolerance [J]) while settling (steps
+    0: a stage starts). Returns (wall id, grain ids, the kinetic-energy tolerance used, the
+    container's facet ids)."""
+    p = fill_preset(p)
     gmat = _grain_material(p)
     from yade import utils
     wall = O.bodies.append(utils.wall(0, axis=2, sense=1, material=gmat))
