@@ -154,3 +154,15 @@ def test_engines_inside_a_parallel_engine_are_refused(scene, label):
 
 def _engine_in(par):
     return par.slaves[0][0] if isinstance(par.slaves[0], list) else par.slaves[0]
+
+
+def test_the_readme_names_every_engine_label(scene):
+    """The README's row of engines() lists the labels a script finds the engines by; they are the
+    labels engines(guard=True) gives (and the law's)."""
+    import os
+    import re
+    readme = open(os.path.join(os.path.dirname(__file__), "..", "..", "README.md")).read()
+    row = next(line for line in readme.splitlines() if line.startswith("| `engines("))
+    listed = set(re.findall(r"`(\w+)`", row.split("labelled", 1)[1].split("(find one", 1)[0])) - {"contact_law"}
+    law_labels = {f.label for e in yf.engines() if hasattr(e, "lawDispatcher") for f in e.lawDispatcher.functors if f.label}
+    assert listed == {e.label for e in yf.engines(guard=True) if e.label} | law_labels, listed
