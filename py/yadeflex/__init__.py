@@ -23,6 +23,7 @@ from .view import view, snapshot, scene_box, color_by_part
 from . import parts
 from .module_ids import ModuleIds
 from .mass_scaling import scale_node_masses
+from .placement import placed
 
 __all__ = [
     "flex_material", "steel", "rope_6x7_8mm",

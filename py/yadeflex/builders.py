@@ -10,6 +10,7 @@ from yade.wrapper import Body, FlexNode, FlexCylinder, FlexMat
 from yade.minieigenHP import Vector2i, Vector3
 
 from . import checks as C
+from . import placement
 
 
 def _positive(name, v):
@@ -78,9 +79,19 @@ def fix(ids, dofs="xyzXYZ"):
         O.bodies[i].state.angVel = Vector3(0, 0, 0)
 
 
+def _place(b, pos):
+    """Body b at pos [m], both placed by the current placement (yadeflex.placement)."""
+    pl = placement.current()
+    if pl.is_identity():
+        b.state.pos = pos
+    else:
+        b.state.pos = pl.point(pos)
+        b.state.ori = pl.orientation(b.state.ori)
+
+
 def node(pos, radius, material=None, fixed=False):
-    """A FlexNode at pos [m]; radius [m] for display. Mass and inertia come from the
-    cylinders attached to it. Returns the body id."""
+    """A FlexNode at pos [m] (placed: yadeflex.placement); radius [m] for display. Mass and
+    inertia come from the cylinders attached to it. Returns the body id."""
     p = check_finite("node position", pos)
     r = _positive("node radius", radius)
     fixed = C.boolean("fixed", fixed)
@@ -88,7 +99,7 @@ def node(pos, radius, material=None, fixed=False):
     C.body_budget("node", pos, 1)
     b = Body()
     b.shape = FlexNode(radius=r)
-    b.state.pos = p
+    _place(b, p)
     b.bounded = False  # contacts are detected on the elements
     if mat is not None:
         b.material = mat

@@ -13,6 +13,7 @@ from yade import O
 from yade.wrapper import Body, FlexNode, FlexFacet, FlexMembraneMat
 from yade.minieigenHP import Vector3
 
+from . import builders as B
 from . import checks as C
 from .builders import _positive, check_finite, fix, lookup_material, _section
 from .materials import MODULUS, FRICTION_DEG, CONTACT_RATIO
@@ -64,7 +65,7 @@ def _membrane_material(material):
 def _node(pos, radius, mat):
     b = Body()
     b.shape = FlexNode(radius=radius)
-    b.state.pos = pos
+    B._place(b, pos)
     b.bounded = False
     b.material = mat
     return O.bodies.append(b)

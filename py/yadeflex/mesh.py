@@ -45,6 +45,7 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import FlexNode
 
 from . import builders as B
+from . import placement
 from . import checks as C
 
 TECCO_G65_DX = 0.083  # [m] rhombus diagonal across the spirals (longitudinal direction)
@@ -263,8 +264,10 @@ def chain_link_cylinder(diameter, height, material, dx=TECCO_G65_DX, dy=TECCO_G6
 
 
 def _sorted_around(node_ids):
-    """Node ids sorted by angle around their centroid (an edge of a cylindrical mesh)."""
-    ps = [O.bodies[i].state.pos for i in node_ids]
+    """Node ids sorted by angle around their centroid (an edge of a cylindrical mesh), in the
+    frame of the current placement (yadeflex.placement: a tilted module's edge as an upright one's)."""
+    pl = placement.current()
+    ps = [O.bodies[i].state.pos if pl.is_identity() else pl.local(O.bodies[i].state.pos) for i in node_ids]
     cx = sum(p[0] for p in ps) / len(ps)
     cy = sum(p[1] for p in ps) / len(ps)
     return [i for _, i in sorted((math.atan2(p[1] - cy, p[0] - cx), i) for i, p in zip(node_ids, ps))]
