@@ -13,7 +13,7 @@ import dataclasses
 import os
 
 from . import checks as C
-from .impact import ImpactTimes, RunSettings, EXIT
+from .runner import ImpactTimes, RunSettings, EXIT
 from . import params as P
 from .module import ModuleParams, FILLS, PARAMS
 

@@ -41,7 +41,7 @@ from yade.wrapper import PyRunner, FlexGuard
 from . import scenes, membrane_scenes, tensile
 from . import membrane as M
 from .errors import Unstable
-from .impact import RunSettings, unstable_body
+from .runner import RunSettings, unstable_body
 from .materials import steel
 from .module import ModuleParams, filled_module, add_boulder, scale_lining_nodes
 

@@ -146,10 +146,10 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
     import math as m
     from yade import O
     from yade.minieigenHP import Vector3
-    from yadeflex import impact
+    from yadeflex import impact, runner
     from yadeflex.module import ModuleParams
     base, _, _ = small_run
-    real = impact.step_until
+    real = runner.step_until
 
     def spoiling(until, steps):
         run = spoiling.run
@@ -167,7 +167,7 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
         spoiling.run = run
         return start(run)
 
-    monkeypatch.setattr(impact, "step_until", spoiling)
+    monkeypatch.setattr(runner, "step_until", spoiling)
     monkeypatch.setattr(impact.ImpactRun, "_record", record)
     s = impact.run_impact(ModuleParams.small(), str(tmp_path / "out"), cache_dir=str(base / "cache"), progress=False, no_vtk=True)
     assert spoiling.done
@@ -180,17 +180,17 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
 def test_summary_says_impact_while_the_impact_runs(small_run, scene, tmp_path, monkeypatch):
     """A run killed outright (kill -9) during the impact left summary.json saying "stage": "fill"
     beside hundreds of impact rows: the stage is written when the impact starts."""
-    from yadeflex import impact
+    from yadeflex import impact, runner
     from yadeflex.module import ModuleParams
     base, _, _ = small_run
-    out, real, seen = tmp_path / "out", impact.step_until, []
+    out, real, seen = tmp_path / "out", runner.step_until, []
 
     def looking(until, steps):
         if not seen:
             seen.append(json.loads((out / "summary.json").read_text()))
         return real(until, steps)
 
-    monkeypatch.setattr(impact, "step_until", looking)
+    monkeypatch.setattr(runner, "step_until", looking)
     s = impact.run_impact(ModuleParams.small(), str(out), cache_dir=str(base / "cache"), progress=False, no_vtk=True, duration=0.005)
     assert s["status"] == "done" and seen[0]["status"] == "running" and seen[0]["stage"] == "impact", seen
 

@@ -392,7 +392,7 @@ def _contact(times, v0, accel, dt=2e-4):
 
 
 def test_the_expected_end_of_a_constant_deceleration_is_exact():
-    from yadeflex.impact import ImpactTimes
+    from yadeflex.runner import ImpactTimes
     v0, a = 4.0, 200.0  # stops at 20 ms, rebound then, end 10 ms later (the least margin)
     times = ImpactTimes(start=0.0)
     seen = _contact(times, v0, lambda t: a)
@@ -407,7 +407,7 @@ def test_the_time_left_follows_the_expected_end():
     the contact on (a linear spring stiffens as it goes: the estimate comes down to the end
     from above), the time left is within 35% of the real one; the maximum duration, 0.3 s,
     would say 268 s or more."""
-    from yadeflex.impact import ImpactTimes, Progress
+    from yadeflex.runner import ImpactTimes, Progress
     v0, t_stop = 4.4, 0.022
     w = math.pi / 2 / t_stop
     times = ImpactTimes(start=0.0)
@@ -432,7 +432,7 @@ def test_the_time_left_follows_the_expected_end():
 
 
 def test_a_given_duration_counts_from_the_first_contact():
-    from yadeflex.impact import ImpactTimes
+    from yadeflex.runner import ImpactTimes
     times = ImpactTimes(start=1.0, duration=0.05)
     assert times.end == pytest.approx(1.05)
     times.observe(1.001, -4.0, touching=False)
