@@ -13,20 +13,33 @@ from yade.wrapper import FlexNode, Sphere
 from . import parts as P
 
 
+_legend = {}  # part name -> colour, of the last color_by_part (snapshot draws it)
+
+
 def color_by_part(parts=None):
-    """Set every body's shape.color to its part's colour (yadeflex.parts.COLORS: mesh blue, rings
-    red, rope teal, lining green, slab grey, grains sand, boulder magenta: a clump's member
-    spheres). parts: body id -> part id (default yadeflex.parts.scene_parts()). Returns dict part
-    name -> number of bodies coloured."""
+    """Set every body's shape.color to its part's colour (yadeflex.parts.part_color: mesh blue,
+    rings red, rope teal, lining green, slab grey, grains sand, boulder magenta: a clump's member
+    spheres; the groups named with yadeflex.parts.name_parts in the colours of PALETTE). parts:
+    body id -> part id (default yadeflex.parts.scene_parts()). Returns dict part name -> number
+    of bodies coloured; the legend (printed, and drawn by snapshot) lists those parts."""
     table = P.scene_parts() if parts is None else parts
+    names = P.part_names()
     count = {}
     for b in O.bodies:
         if b is None or b.shape is None:
             continue
-        name = P.PARTS[P.part_of(b, table)]
-        b.shape.color = Vector3(*P.COLORS[name])
+        k = P.part_of(b, table)
+        name = names[k] if k < len(names) else P.PARTS[0]
+        b.shape.color = Vector3(*P.part_color(name))
         count[name] = count.get(name, 0) + 1
+    _legend.clear()
+    _legend.update({n: P.part_color(n) for n in names if n in count})
     return count
+
+
+def legend():
+    """The colour legend of the last color_by_part: list of (part name, RGB [0-1])."""
+    return [(n, c) for n, c in _legend.items()]
 
 
 def scene_box():
@@ -52,7 +65,7 @@ def scene_box():
     return Vector3(*lo), Vector3(*hi)
 
 
-def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 0, 1), color_parts=True):
+def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 0, 1), color_parts=True, size=None):
     """Open YADE's 3D view (or take the one open) on the whole scene and return it.
 
     color_parts: colour every body by its part first (color_by_part; False keeps the shapes'
@@ -60,7 +73,11 @@ def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 
     compression, grey: zero, red: tension; range +- the largest value in the scene, or set
     Gl1_FlexCylinder.forceRange / Gl1_FlexFacet.forceRange); the other bodies keep their part
     colours. show_nodes: draw the nodes as spheres of their radius. direction, up: viewing
-    direction and the direction shown up."""
+    direction and the direction shown up. size: (width, height) of the view [pixels]. The
+    colour legend is printed (and drawn by snapshot)."""
+    if size is not None:
+        if not (isinstance(size, (tuple, list)) and len(size) == 2 and all(isinstance(x, int) and 16 <= x <= 8192 for x in size)):
+            raise ValueError(f"view size: (width, height) in pixels, each 16 to 8192, got {size!r}")
     try:
         from yade import qt
     except ImportError as e:
@@ -68,10 +85,13 @@ def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 
     from yade.wrapper import Gl1_FlexCylinder, Gl1_FlexFacet, Gl1_FlexNode  # here: the package imports with an older plugin
 
     if color_parts:
-        color_by_part()
+        count = color_by_part()
+        print("colours: " + ", ".join(f"{n} ({count[n]})" for n, _ in legend()), flush=True)
     Gl1_FlexCylinder.colorByForce = Gl1_FlexFacet.colorByForce = bool(color_by_force)
     Gl1_FlexNode.show = bool(show_nodes)
     v = qt.views()[0] if qt.views() else qt.View()
+    if size is not None:
+        _widget().resize(*size)
     v.upVector = Vector3(*up)  # first: setting it turns the camera square to it
     v.viewDir = Vector3(*direction)
     # the sphere around the whole box (GLViewer.fitAABB fits the sphere of its largest side only,
@@ -81,11 +101,8 @@ def view(color_by_force=False, show_nodes=False, direction=(0, 1, -0.5), up=(0, 
     return v
 
 
-def snapshot(path):
-    """Render the open 3D view now and save it to path (format from the suffix: .png is
-    lossless). Works in scripts (yade -x) where no Qt event loop runs; YADE's own
-    GLViewer.saveSnapshot waits for the next repaint and writes JPEG whatever the suffix.
-    Returns path."""
+def _widget():
+    """The open 3D view's Qt widget."""
     try:
         from PyQt5.QtWidgets import QApplication
     except ImportError as e:
@@ -95,7 +112,38 @@ def snapshot(path):
     if not widgets:
         raise RuntimeError("no 3D view is open: call yadeflex.view() first (and run yade without -n)")
     app.processEvents()
-    image = widgets[0].grabFramebuffer()
+    return widgets[0]
+
+
+def _draw_legend(image):
+    """The legend (legend()) in the image's top left corner: a swatch and the name of each part."""
+    from PyQt5.QtGui import QColor, QFont, QPainter
+    entries = legend()
+    if not entries:
+        return
+    p = QPainter(image)
+    font = QFont()
+    font.setPixelSize(max(11, image.height() // 45))
+    p.setFont(font)
+    h = font.pixelSize() + 6
+    width = 2 * h + max(p.fontMetrics().horizontalAdvance(n) for n, _ in entries) + 8
+    p.fillRect(4, 4, width, h * len(entries) + 8, QColor(255, 255, 255, 200))
+    for k, (name, c) in enumerate(entries):
+        y = 8 + k * h
+        p.fillRect(10, y + 2, h - 4, h - 4, QColor(*(int(255 * x) for x in c)))
+        p.setPen(QColor(0, 0, 0))
+        p.drawText(10 + h + 2, y + h - 5, name)
+    p.end()
+
+
+def snapshot(path, legend=True):
+    """Render the open 3D view now and save it to path (format from the suffix: .png is
+    lossless), with the colour legend of its parts unless legend is False. Works in scripts
+    (yade -x) where no Qt event loop runs; YADE's own GLViewer.saveSnapshot waits for the next
+    repaint and writes JPEG whatever the suffix. Returns path."""
+    image = _widget().grabFramebuffer()
+    if legend and not image.isNull():
+        _draw_legend(image)
     if image.isNull() or not image.save(str(path)):
         raise RuntimeError(f"could not save the 3D view to {path}")
     return path

@@ -35,8 +35,11 @@ opens it with colours, tubes and glyphs set.
                                                grain crushing, engines' crushing_is50; else 0)
 
 part: which part of the structure the body is, yadeflex.parts.PARTS (0 other, 1 mesh, 2 ring,
-3 rope, 4 lining, 5 slab, 6 grain, 7 boulder); kind: 10 x the smaller part id + the larger (16
-mesh-grain, 46 lining-grain, 66 grain-grain, 67 grain-boulder, ...). A side's centre is a
+3 rope, 4 lining, 5 slab, 6 grain, 7 boulder), then the groups named with
+yadeflex.parts.name_parts (8, 9, ...); every file's field data part_names gives the name of each
+id. kind: 10 x the smaller standard part id of the two bodies + the larger (16 mesh-grain, 46
+lining-grain, 66 grain-grain, 67 grain-boulder, ...; a named group's body counts as the standard
+part its shape gives). A side's centre is a
 sphere's centre, the closest point on a cylinder's axis or a facet's midplane, the contact point
 on a wall, YADE facet or box. Contacts are the
 real interactions with a normal force (handed-over FlexContactGeom contacts left out).
@@ -60,6 +63,7 @@ The frame is stamped with O.time and O.iter. Called from a PyRunner after the in
 positions are already advanced by one step while O.time is not: negligible for display.
 """
 import contextlib
+import json
 import math
 import os
 import re
@@ -96,7 +100,7 @@ _HEX_CORNERS = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1),
 def _vtk():
     try:
         from vtkmodules.util import numpy_support
-        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkLogger, vtkPoints
+        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkLogger, vtkPoints, vtkStringArray
         from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
         from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
     except ImportError as err:
@@ -104,7 +108,7 @@ def _vtk():
     # VTK's log stays off stderr (a writer that fails dumps its pipeline there: _write_vtu raises
     # naming the file instead)
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-    return dict(ns=numpy_support, vtkDoubleArray=vtkDoubleArray, vtkIntArray=vtkIntArray, vtkPoints=vtkPoints,
+    return dict(ns=numpy_support, vtkDoubleArray=vtkDoubleArray, vtkIntArray=vtkIntArray, vtkPoints=vtkPoints, vtkStringArray=vtkStringArray,
                 vtkCellArray=vtkCellArray, vtkUnstructuredGrid=vtkUnstructuredGrid, writer=vtkXMLUnstructuredGridWriter)
 
 
@@ -240,7 +244,12 @@ class _Frame:
 
     def __init__(self, snap, parts=None, broken=None, memory=None):
         self.snap = snap
-        self.part_ids = snap.parts(P.scene_parts() if parts is None else parts)
+        table = P.scene_parts() if parts is None else parts
+        self.part_ids = snap.parts(table)
+        self.names = P.part_names()
+        # the contact kinds: of the standard parts (a named group's body: the one its shape gives)
+        n = len(P.PARTS)
+        self.kind_ids = self.part_ids if all(v < n for v in table.values()) else snap.parts({k: v for k, v in table.items() if v < n})
         self.broken = broken or {}
         self.memory = memory
 
@@ -360,9 +369,10 @@ def _contacts(vtk, c, fr):
     n = len(c["id1"])
     pts = np.stack([c["end1"], c["end2"]], axis=1).reshape(-1, 3)
     p1, p2 = fr.part_ids[c["id1"]], fr.part_ids[c["id2"]]
+    k1, k2 = fr.kind_ids[c["id1"]], fr.kind_ids[c["id2"]]
     fn, fs = c["normalForce"], c["shearForce"]
     data = [("id1", c["id1"], 1), ("id2", c["id2"], 1), ("part1", p1, 1), ("part2", p2, 1),
-            ("kind", 10 * np.minimum(p1, p2) + np.maximum(p1, p2), 1), ("contactPoint", c["contactPoint"], 3), ("normal", c["normal"], 3),
+            ("kind", 10 * np.minimum(k1, k2) + np.maximum(k1, k2), 1), ("contactPoint", c["contactPoint"], 3), ("normal", c["normal"], 3),
             ("normalForce", fn, 3), ("shearForce", fs, 3), ("fn", _norms(fn), 1), ("fs", _norms(fs), 1), ("force", _norms(fn + fs), 1),
             ("penetrationDepth", c["penetrationDepth"], 1), ("plasticOverlap", c["plasticOverlap"], 1)]
     return _grid(vtk, pts, _VTK_LINE, np.arange(2 * n), 2, cell_data=data)
@@ -385,6 +395,22 @@ _BUILD = {
     "rigid_facets": lambda vtk, bs, fr: _rigid(vtk, bs, _VTK_TRIANGLE, lambda b: list(b.shape.vertices), lambda bs_: [], fr),
     "contacts": lambda vtk, c, fr: _contacts(vtk, c, fr),
 }
+
+
+def _named(build):
+    """build, with the part names (field data part_names: the name of each part id) in its grid."""
+    def named(vtk, what, fr):
+        grid = build(vtk, what, fr)
+        names = vtk["vtkStringArray"]()
+        names.SetName("part_names")
+        for n in fr.names:
+            names.InsertNextValue(n)
+        grid.GetFieldData().AddArray(names)
+        return grid
+    return named
+
+
+_BUILD = {g: _named(f) for g, f in _BUILD.items()}
 
 
 def _empty(g):
@@ -454,6 +480,12 @@ def _write_vtu(vtk, grid, path, time, stamp=None):
         raise OSError(e.errno, f"VTK could not write {path}: {e.strerror}", path) from None
 
 
+def _write_part_names(pvd):
+    """PREFIX_parts.json beside the .pvd: the name of each part id (yadeflex.parts.part_names),
+    for readers that do not read the files' field data (the ParaView macro)."""
+    write_atomic(pvd[:-len(".pvd")] + "_parts.json", json.dumps(P.part_names()))
+
+
 def _write_pvd(path, datasets):
     """Collection file; datasets: (time, part, name, file). Written to a temporary file and
     renamed, so the .pvd on disk is always complete."""
@@ -489,6 +521,7 @@ def write_vtk_snapshot(folder, name, parts=None):
         paths[g] = os.path.join(folder, fn)
         datasets.append((float(O.time), part, g, fn))
     paths["pvd"] = os.path.join(folder, name + ".pvd")
+    _write_part_names(paths["pvd"])
     _write_pvd(paths["pvd"], datasets)
     return paths
 
@@ -547,7 +580,7 @@ class VtkRecorder(Periodic):
     @staticmethod
     def files_pattern(prefix="flex"):
         """Regular expression of the names of the files a recorder with this prefix writes."""
-        return re.escape(prefix) + r"(\.pvd|_(" + "|".join(GROUPS) + r")_(\d{6,}|empty)\.vtu)|\.tmp-.*\.pvd"
+        return re.escape(prefix) + r"(\.pvd|_parts\.json|_(" + "|".join(GROUPS) + r")_(\d{6,}|empty)\.vtu)|\.tmp-.*\.(pvd|json)"
 
     def _empty_file(self, g):
         return f"{self.prefix}_{g}_empty.vtu"
@@ -621,4 +654,5 @@ class VtkRecorder(Periodic):
     def _write_pvd(self):
         datasets = [(ts - self.time_origin, part, g, fr_.get(g, self._empty_file(g)))
                     for ts, _, fr_ in self.frames for part, g in enumerate(self.groups)]
+        _write_part_names(self.pvd)
         _write_pvd(self.pvd, datasets)

@@ -41,7 +41,7 @@ HERE = os.path.dirname(os.path.abspath(__file__)) if "__file__" in globals() els
 _spec = importlib.util.spec_from_file_location("yadeflex_parts", os.path.join(os.path.dirname(HERE), "parts.py"))
 PARTS_MODULE = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(PARTS_MODULE)
-PART, COLORS = PARTS_MODULE.PART, PARTS_MODULE.COLORS
+PART = PARTS_MODULE.PART
 
 BACKGROUND = (1.0, 1.0, 1.0)
 GRAIN_SCALE_WITH_CONTACTS = 0.5  # grains drawn at this fraction of their size while force chains are shown
@@ -73,6 +73,16 @@ def peak_time(run):
     with open(os.path.join(run, "summary.json")) as fh:
         ff = json.load(fh).get("free_fall_check") or {}
     return float(best[tk]) - float(ff.get("t", 0.0))
+
+
+def part_names(pvd):
+    """The name of each part id of a series: its PREFIX_parts.json beside the .pvd (written by
+    yadeflex.vtk_frames), else the standard parts."""
+    path = pvd[:-len(".pvd")] + "_parts.json"
+    if os.path.isfile(path):
+        with open(path) as fh:
+            return json.load(fh)
+    return list(PARTS_MODULE.PARTS)
 
 
 def _groups(reader):
@@ -184,12 +194,15 @@ def open_run(run, time="peak", color="force", clip=False, contacts=True, size=(1
             if bb[0] <= bb[1]:
                 origin = [0.5 * (bb[0] + bb[1]), 0.5 * (bb[2] + bb[3]), 0.5 * (bb[4] + bb[5])]
     shown = {}
-    part_col = lambda name: COLORS[name]
+    names = part_names(pvd)
+    part_col = lambda name: PARTS_MODULE.color_of(name, names)
+    named = [n for n in names if n not in PART]  # the groups the scene named (yadeflex.parts.name_parts)
     if "cylinders" in groups:
         cyl = pv.ExtractSurface(Input=pv.ExtractBlock(Input=reader, Selectors=["/Root/cylinders"]))
         intact = _threshold(cyl, "broken", 0, 0)
-        for name in ("mesh", "ring", "rope", "other"):
-            sel = _threshold(intact, "part", PART[name], PART[name])
+        for name in ["mesh", "ring", "rope", "other"] + named:
+            k = names.index(name)
+            sel = _threshold(intact, "part", k, k)
             sel.UpdatePipeline(t)
             if sel.GetDataInformation().GetNumberOfCells() == 0:
                 continue
@@ -209,13 +222,19 @@ def open_run(run, time="peak", color="force", clip=False, contacts=True, size=(1
             shown["lining"] = _by(view, fac, "CELLS", "n1", "Viridis (matplotlib)", False, "lining n1 [N/m]")
     if "spheres" in groups:
         sph = pv.ExtractSurface(Input=pv.ExtractBlock(Input=reader, Selectors=["/Root/spheres"]))
-        grains = _threshold(sph, "part", PART["grain"], PART["grain"], points=True)
         chains = contacts and "contacts" in groups
-        g = pv.Glyph(Input=grains, GlyphType="Sphere", ScaleArray=["POINTS", "radius"], GlyphMode="All Points")
-        g.ScaleFactor = 2.0 * (GRAIN_SCALE_WITH_CONTACTS if chains else 1.0)  # after ScaleArray, which resets it
-        g.GlyphType.ThetaResolution = 16
-        g.GlyphType.PhiResolution = 12
-        shown["grain"] = _solid(view, _slab(g, origin), part_col("grain"))
+        for name in ["grain"] + named:
+            k = names.index(name)
+            grains = _threshold(sph, "part", k, k, points=True)
+            if name != "grain":
+                grains.UpdatePipeline(t)
+                if grains.GetDataInformation().GetNumberOfPoints() == 0:
+                    continue
+            g = pv.Glyph(Input=grains, GlyphType="Sphere", ScaleArray=["POINTS", "radius"], GlyphMode="All Points")
+            g.ScaleFactor = 2.0 * (GRAIN_SCALE_WITH_CONTACTS if chains else 1.0)  # after ScaleArray, which resets it
+            g.GlyphType.ThetaResolution = 16
+            g.GlyphType.PhiResolution = 12
+            shown[name] = _solid(view, _slab(g, origin), part_col(name))
     if "clumps" in groups:
         hull = pv.ExtractSurface(Input=pv.ExtractBlock(Input=reader, Selectors=["/Root/clumps"]))
         shown["boulder"] = _solid(view, _clip(hull, origin, crinkle=0), part_col("boulder"))
