@@ -1,6 +1,5 @@
 """Filling the damping module (stages 1-2 of yadeflex.module): the grains settled in a container,
 then the mesh, rings and lining built around them and settled with them."""
-import dataclasses
 import math
 import random
 
@@ -9,13 +8,12 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import Body, Sphere, FrictMat, FlexNode, NewtonIntegrator
 
 from . import builders as B
-from .constants import G
 from . import checks as C
 from . import membrane as M
 from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
 from .module_ids import ModuleIds, ModuleStructureIds
 from .scene import engines, step_until
-from .module_params import (FILL_TIMESTEP_SAFETY, FILLS, LIMITS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams, check_fill,
+from .module_params import (FILL_TIMESTEP_SAFETY, FILLS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams, check_fill,
                             fill_radii, lining_cells_around)
 
 
@@ -154,12 +152,13 @@ def fill_preset(p):
     raise C.BadValue("fill preset", p, "a ModuleParams, the name of a preset (" + ", ".join(sorted(FILLS)) + ") or a preset dict")
 
 
-def fill_engines(p, damping, friction=True):
+def fill_engines(p, damping, friction=True, timestep_safety=FILL_TIMESTEP_SAFETY):
     """yadeflex.engines() for grains of preset p (fill_preset: ModuleParams, preset name or dict)
-    settling at the filling's step: with p's rolling resistance, or (friction False) with none."""
+    settling at the filling's step (timestep_safety): with p's rolling resistance, or (friction
+    False) with none."""
     p = fill_preset(p)
     rf = p["rolling_friction"] if friction else 0.0
-    return engines(damping=damping, timestep_safety=FILL_TIMESTEP_SAFETY, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
+    return engines(damping=damping, timestep_safety=timestep_safety, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
 
 def _floor_grains(radius, r_floor, mat):
@@ -180,66 +179,36 @@ def _floor_grains(radius, r_floor, mat):
 
 def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.settle_damping, rough_floor=0.0, keep_container=False, progress=None,
                   deposition_friction_deg=0.0):
-    """Grains of fill preset p settled as the module's fill is, on an empty O: placed on a
-    close-packed lattice up to PLACED_HEIGHT x H (solid fraction about 0.33: enough for a dense
-    fill above H) in a rigid frictionless container of radius r_in about each centre, on a wall
-    at z = 0, settled without rolling resistance and frictionless (or at deposition_friction_deg
-    [deg]: a looser fill), then with the fill's friction and rolling resistance (until at rest:
-    kinetic energy and unbalanced force, local damping `damping`), and trimmed to the height H.
+    """Grains of fill preset p settled as the module's fill is, on an empty O (yadeflex.deposition's
+    deposition, a CylinderRegion about each centre): placed on a close-packed lattice up to
+    PLACED_HEIGHT x H (solid fraction about 0.33: enough for a dense fill above H) in a rigid
+    frictionless container of radius r_in about each centre, on a wall at z = 0, settled without
+    rolling resistance and frictionless (or at deposition_friction_deg [deg]: a looser fill),
+    then with the fill's friction and rolling resistance (until at rest: kinetic energy and
+    unbalanced force, local damping `damping`), and trimmed to the height H.
     rough_floor > 0: a fixed monolayer of the largest grains covers the floor out to that
     radius, and the fill starts on it. keep_container: the container stays (else removed).
     p: a ModuleParams, a preset's name or a preset dict (fill_preset). progress, if given, is
     called as progress(stage, steps, kinetic energy [J], its tolerance [J]) while settling (steps
     0: a stage starts). Returns (wall id, grain ids, the kinetic-energy tolerance used, the
     container's facet ids)."""
+    from .deposition import CylinderRegion, GrainSizes, place_grains, settle_deposit, trim_grains
     p = fill_preset(p)
     gmat = _grain_material(p)
     from yade import utils
     wall = O.bodies.append(utils.wall(0, axis=2, sense=1, material=gmat))
-    rmax = 0.5 * p["grain_max"]
-    z0 = rmax * 1.05
+    floor = 0.0
     if rough_floor > 0:
-        r_floor = rmax
+        r_floor = 0.5 * p["grain_max"]
         _floor_grains(rough_floor, r_floor, gmat)
-        z0 += 2 * r_floor
-    a = 2.05 * rmax
+        floor = 2 * r_floor
+    sizes = GrainSizes.of(p)
     grains, container = [], []
-    for cx, cy in centers:
+    for cx, cy in centers:  # each centre's container, then its grains (the bodies' order sets the round-off of the contact sums)
         container += _container(r_in, 3.6 * H, center=(cx, cy))
-        for pos in _placement(r_in - 1.05 * rmax, z0, PLACED_HEIGHT * H, a):
-            rad = 0.5 * rnd.uniform(p["grain_min"], p["grain_max"])
-            grains.append(_sphere_body(Vector3(cx + pos[0], cy + pos[1], pos[2]), rad, gmat))
-    # densification: no friction, no rolling resistance (a standard DEM filling procedure); a
-    # deposition friction above 0 leaves the grains less dense
-    dep = C.number("deposition friction", deposition_friction_deg,
-                   dataclasses.replace(LIMITS["fill_deposition_friction_deg"], hi=min(45.0, p["friction_deg"])))
-    phi = gmat.frictionAngle
-    gmat.frictionAngle = math.radians(dep)
-    O.engines = fill_engines(p, damping, friction=False)
-    O.dt = 1e-5
-    ke_tol = 1e-4 * sum(O.bodies[g].state.mass for g in grains) * G * H
-    stage = f"fill, deposited at {dep:g} deg" if dep else "fill, dense"
-    if progress:  # the count of grains sets the time a step takes
-        progress(f"{stage} ({len(grains)} grains placed)", 0, float("nan"), ke_tol)
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress(stage, s, ke, tol)))
-    # then the fill's own friction and rolling resistance, on the existing contacts too (as
-    # Ip2_FrictMat_FrictMat_FrictPhys sets it: the smaller angle of the two materials, so the
-    # container stays frictionless)
-    gmat.frictionAngle = phi
-    for i in O.interactions:
-        if i.isReal and hasattr(i.phys, "tangensOfFrictionAngle"):
-            angles = [getattr(O.bodies[k].material, "frictionAngle", 0.0) for k in (i.id1, i.id2)]
-            i.phys.tangensOfFrictionAngle = math.tan(min(angles))
-    O.engines = fill_engines(p, damping)
-    if progress:
-        progress("fill, with friction", 0, float("nan"), ke_tol)
-    _settle(ke_tol, 400000, progress=progress and (lambda s, ke, tol: progress("fill, with friction", s, ke, tol)), unbalanced_tol=UNBALANCED_TOL)
-    # trim: keep the grains wholly below the height
-    for g in list(grains):
-        b = O.bodies[g]
-        if b.state.pos[2] + b.shape.radius > H:
-            O.bodies.erase(g)
-            grains.remove(g)
+        grains += place_grains(CylinderRegion((cx, cy), r_in, floor, 3.6 * H), sizes, rnd, gmat, top=PLACED_HEIGHT * H)[0]
+    _, ke_tol, _ = settle_deposit(grains, gmat, p, H, damping, deposition_friction_deg, progress)
+    grains = trim_grains(grains, H)  # the grains wholly below the height
     if not keep_container:
         for f in container:
             O.bodies.erase(f)
