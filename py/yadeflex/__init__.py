@@ -19,8 +19,12 @@ from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 from .rope import rope_around
 from .output import VtkRecorder, write_vtk_snapshot, EnergyRecorder, read_csv, plot_timeseries, plot_energy
-from .view import view, snapshot, scene_box, color_by_part
+from .view import view, snapshot, scene_box, color_by_part, legend
 from . import parts
+from .parts import name_parts
+from .scene_impact import Boulder, boulder_impact
+from .deposition import deposit, settle, DepositResult, BoxRegion, CylinderRegion, GrainSizes
+from .joins import lace, edge_rope, bag, box_surface
 from .module_ids import ModuleIds
 from .mass_scaling import scale_node_masses
 from .placement import placed
@@ -33,5 +37,7 @@ __all__ = [
     "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on", "contact_law",
     "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
     "VtkRecorder", "write_vtk_snapshot", "EnergyRecorder", "read_csv", "plot_timeseries", "plot_energy",
-    "view", "snapshot", "scene_box", "color_by_part", "parts",
+    "view", "snapshot", "scene_box", "color_by_part", "legend", "parts", "name_parts", "Boulder", "boulder_impact",
+    "deposit", "settle", "DepositResult", "BoxRegion", "CylinderRegion", "GrainSizes", "lace", "edge_rope", "bag", "box_surface",
+    "ModuleIds", "scale_node_masses", "placed", "Unstable", "step_until",
 ]
