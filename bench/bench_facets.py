@@ -28,7 +28,7 @@ from yade.minieigenHP import Vector3  # noqa: E402
 
 import builtin_pfacet as bp  # noqa: E402
 import yadeflex as yf  # noqa: E402
-import yadeflex.scenes as S  # noqa: E402
+import yadeflex.harness.scenes as S  # noqa: E402
 
 OUT = os.path.join(HERE, "results")
 _me = next((k for k, a in enumerate(sys.argv) if a.endswith("bench_facets.py")), -1)

@@ -164,7 +164,7 @@ def run_model(label, bid, size, top0, grains, lining_tris, mesh_nodes, t_max=0.3
                 diag=None):
     """Runs the impact from the current scene of either model, recording the boulder as the main job
     does (force m (a_z + g) every record_every, penetration below top0, end at the rebound + 20%).
-    One loop for both models, so that they are recorded and timed alike (yadeflex.impact.run_impact
+    One loop for both models, so that they are recorded and timed alike (yadeflex.module.impact.run_impact
     runs the yade-flex scene only). Returns a dict: rows (time series), summary numbers, energy at
     the end. O.saveTmp(label) at timing_at after contact."""
     boulder = O.bodies[bid]

@@ -1,4 +1,4 @@
-# Runs per hour of a parametric study (yadeflex.study) with 1 and 2 local workers and through a
+# Runs per hour of a parametric study (yadeflex.module.study) with 1 and 2 local workers and through a
 # real single-node Slurm on this machine (GPL-2.0-or-later).
 #
 #     /usr/bin/python3 bench/bench_study.py [--runs 6] [--reps 3] [--duration 0.02] [--no-slurm]
@@ -24,7 +24,7 @@ sys.path[:0] = [BENCH, os.path.join(REPO, "py"), os.path.join(REPO, "tests", "ya
 
 from machine import machine_line  # noqa: E402
 from local_slurm import LocalSlurm, unavailable  # noqa: E402
-from yadeflex import study  # noqa: E402
+from yadeflex.module import study  # noqa: E402
 
 
 def write_study(path, n, duration):

@@ -24,7 +24,9 @@ import time
 
 from yade import O
 
-from yadeflex import tensile, wire, mesh
+from yadeflex import wire, mesh
+
+from yadeflex.harness import tensile
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py") else __file__))
 args = [a for a in sys.argv[1:] if not a.startswith("--")]

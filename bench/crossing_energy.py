@@ -3,7 +3,7 @@
 #
 #     yade-double -n -j1 -x bench/crossing_energy.py [--t-end 1.0] [--safety 0.25,0.5,0.8,1.0]
 #
-# The scene (yadeflex.scenes.bouncing_bar): a steel bar of one FlexCylinder (L 0.2 m, r 3 mm)
+# The scene (yadeflex.harness.scenes.bouncing_bar): a steel bar of one FlexCylinder (L 0.2 m, r 3 mm)
 # dropped onto two fixed steel spheres, no damping, no friction. Cases: dropped 1e-7 m (a body
 # chattering on its contacts, thousands of bounces a second) with the element as stiff as its
 # contacts and 100x softer, and dropped 1 mm (tens of bounces). For each time step safety factor,
@@ -28,7 +28,7 @@ import yade  # noqa: E402
 from yade import O  # noqa: E402
 from yade.wrapper import Law2_FlexContactGeom_FrictPhys_CundallStrack  # noqa: E402
 
-from yadeflex import scenes  # noqa: E402
+from yadeflex.harness import scenes  # noqa: E402
 from machine import machine_line  # noqa: E402
 
 CASES = {

@@ -3,7 +3,7 @@
 #   yade-double -n -j1 -x bench/cylinder_cases.py cantilever
 # Prints one "RESULT {json}" line per case. The same geometry is built once with YADE's
 # built-in GridNode/GridConnection/CohFrict classes (bench/builtin_grid.py) and once with
-# yade-flex (yadeflex.scenes), interleaved so that machine load hits both alike.
+# yade-flex (yadeflex.harness.scenes), interleaved so that machine load hits both alike.
 import json
 import os
 import sys
@@ -12,7 +12,7 @@ import sys
 import builtin_grid as bg  # noqa: E402
 from yade import O  # noqa: E402
 
-from yadeflex import scenes  # noqa: E402
+from yadeflex.harness import scenes  # noqa: E402
 
 HELIX = dict(n_seg=200, radius_wire=0.002, coil_radius=0.05, pitch=0.01)
 NET = dict(n=20, spacing=0.05, radius_wire=0.002, sphere_radius=0.1, speed=5.0, young=200e9, density=7850.0, friction_deg=30.0,

@@ -35,7 +35,8 @@ def inner(impl, steps):
     sys.path.insert(0, HERE)
     sys.path.insert(0, os.path.join(ROOT, "py"))
     from yade import O, Vector3
-    from yadeflex import mesh, tensile, wire
+    from yadeflex import mesh, wire
+    from yadeflex.harness import tensile
     slack, ratio = mesh.TECCO_MESH_CALIBRATION["slack_scale"], mesh.TECCO_MESH_CALIBRATION["force_ratio"]
     if impl == "builtin WirePM":
         import builtin_wire as bw

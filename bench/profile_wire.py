@@ -14,7 +14,8 @@ import time
 HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("profile_wire.py")), os.path.join(os.getcwd(), "bench"))
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 from yade import O  # noqa: E402
-from yadeflex import mesh, tensile, wire  # noqa: E402
+from yadeflex import mesh, wire  # noqa: E402
+from yadeflex.harness import tensile
 
 me = next((k for k, a in enumerate(sys.argv) if a.endswith("profile_wire.py")), 0)
 ap = argparse.ArgumentParser(prog="profile_wire.py")

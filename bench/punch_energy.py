@@ -2,7 +2,7 @@
 #
 #     yade-double -n -j1 -x bench/punch_energy.py [--t-end 0.11] [--cases normal,stiff,...]
 #
-# The scene (yadeflex.scenes.mesh_punch): a 2 x 2 m TECCO G65/3 panel, every edge node held (or a
+# The scene (yadeflex.harness.scenes.mesh_punch): a 2 x 2 m TECCO G65/3 panel, every edge node held (or a
 # rope edge held at the corners), hit at its centre by a rigid 300 kg sphere of radius 0.3 m at
 # 4 m/s, no damping, time step 0.5 x the critical one. Per case: the largest |residual| of the
 # energy balance over the run (O.energy.total() against its value after the first step) as a
@@ -25,7 +25,7 @@ import yade  # noqa: E402
 from yade import O  # noqa: E402
 
 import yadeflex as yf  # noqa: E402
-from yadeflex import scenes  # noqa: E402
+from yadeflex.harness import scenes  # noqa: E402
 from machine import machine_line  # noqa: E402
 
 BASE = dict(size=2.0, boulder_mass=300.0, boulder_radius=0.3, velocity=(0, 0, -4.0), timestep_safety=0.5)

@@ -8,7 +8,7 @@
 # results/stability.csv and stability_margins.csv and keeps the other groups' rows.
 #
 # Every case is a scene of yadeflex (the builders the tests and benchmarks use) run in this one
-# process, one after the other, by yadeflex.stability.run_case: time step = factor x the estimated
+# process, one after the other, by yadeflex.harness.stability.run_case: time step = factor x the estimated
 # critical step at every step, FlexGuard first (its stop recorded, then the run goes on without
 # it), the energy balance checked as the run goes; its docstring gives the rules and outcomes.
 # Margins (group dt): factors 0.5, 0.75, 1, 1.25, 1.5, 2, 3, 4, 6 up to the first unstable one,
@@ -33,7 +33,7 @@ import yade  # noqa: E402
 from yade import O  # noqa: E402
 
 from yadeflex.module import ModuleParams  # noqa: E402
-from yadeflex.stability import cantilever, net, sheet, panel, punch, fabric, indenter, module, run_case, stable, BLOWUP, COLS  # noqa: E402
+from yadeflex.harness.stability import cantilever, net, sheet, panel, punch, fabric, indenter, module, run_case, stable, BLOWUP, COLS  # noqa: E402
 
 ACCURATE = 0.05     # margins also give the largest factor up to which every |residual| stays below this
 FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)

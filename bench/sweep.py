@@ -12,13 +12,13 @@
 # sweep_machine.txt, and prints a table per scene.
 #
 # Scenes (each built by the scene builders the tests and benchmarks use):
-#   cantilever  yadeflex.scenes.cantilever vs builtin_grid.cantilever (GridNode/GridConnection/CohFrict),
+#   cantilever  yadeflex.harness.scenes.cantilever vs builtin_grid.cantilever (GridNode/GridConnection/CohFrict),
 #               steel, L = 1 m, r = 10 mm, tip load giving L/1000, local damping 0.8 on both.
 #               Knobs: segments (at dt fraction 0.5) and dt fraction (at 10 segments). The run goes on
 #               until the tip deflection changes by less than 1e-9 relative over 2 ms of simulated
 #               time. Run time = (steps until the deflection stays within 1e-5 of its final value) x
 #               (wall time per step, median of 3 timed O.run windows of ~0.2 s on the same scene).
-#   membrane    yadeflex.membrane_scenes.pretensioned_square vs the same mesh of PFacets (crossed
+#   membrane    yadeflex.harness.membrane_scenes.pretensioned_square vs the same mesh of PFacets (crossed
 #               diagonals), prestretched by 1%, point load 1 N at the centre, local damping 0.8.
 #               Deflection at three points a quarter side from the load vs the double sine series of
 #               linear membrane theory (at the load point the theory is singular). The PFacet truss
@@ -58,7 +58,7 @@ import builtin_pfacet as bp  # noqa: E402
 from machine import machine_line  # noqa: E402
 from tol_ref import cantilever_reference, E as E_STEEL  # noqa: E402
 
-from yadeflex import scenes  # noqa: E402
+from yadeflex.harness import scenes  # noqa: E402
 from yadeflex.module import ModuleParams, touches  # noqa: E402
 
 DT_FRACTIONS = (0.25, 0.5, 0.8, 1.0)
@@ -336,7 +336,7 @@ def membrane_builtin(n):
 
 
 def membrane_run(impl, n, frac):
-    from yadeflex import membrane_scenes as MS
+    from yadeflex.harness import membrane_scenes as MS
     c = MEMB
     if impl == "built-in":
         grid, T, side = membrane_builtin(n)
@@ -546,7 +546,7 @@ def impact_window(bid, top0, size, window, record, every=None, each=None, wall_c
     energy it lost (kinetic + potential) at the end. each(): called every `every` steps (time-step update).
     wall_cap [s]: a run still going after this much wall time stops with status "not finished"
     (the built-in module's step collapses on fine fills: one such run had not ended after 45 min).
-    One loop for both implementations, so that their wall times compare (yadeflex.impact.run_impact
+    One loop for both implementations, so that their wall times compare (yadeflex.module.impact.run_impact
     runs the yade-flex scene only, and records much more)."""
     from yadeflex.constants import G
     st = O.bodies[bid].state

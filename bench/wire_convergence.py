@@ -18,7 +18,8 @@ HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 sys.path.insert(0, HERE)
 from yade import O  # noqa: E402
-from yadeflex import mesh, tensile, wire  # noqa: E402
+from yadeflex import mesh, wire  # noqa: E402
+from yadeflex.harness import tensile
 import builtin_wire as bw  # noqa: E402
 
 me = next((k for k, a in enumerate(sys.argv) if a.endswith("wire_convergence.py")), 0)

@@ -4,7 +4,7 @@ combined configuration of the damping-module tests), the boulder on the middle m
     yade-double -n -x examples/cushion.py [--small] [--drop 5] [--mass 800] [--out out/cushion]
 
 The three modules are filled together (the first run fills and caches them: about 15 min at
-the default size; --small takes a minute) and hit as the main job hits one (yadeflex.impact's
+the default size; --small takes a minute) and hit as the main job hits one (yadeflex.module.impact's
 run_impact): the force on the boulder and on the slab, the rope's force, the energy."""
 import argparse
 import os
@@ -13,7 +13,7 @@ import sys
 HERE = next((os.path.dirname(os.path.abspath(x)) for x in sys.argv if x.endswith(".py")), os.getcwd())
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))  # this checkout's yadeflex
 import yadeflex as yf  # noqa: E402
-from yadeflex.impact import run_impact  # noqa: E402
+from yadeflex.module.impact import run_impact  # noqa: E402
 from yadeflex.module import ModuleParams  # noqa: E402
 
 ap = argparse.ArgumentParser(prog="cushion.py", description=__doc__.split("\n\n")[0])

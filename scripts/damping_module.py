@@ -14,15 +14,15 @@
 # values allowed; nothing is filled or written), an output folder that cannot be written, or another
 # error; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the
 # energy balance residual exceeded --max-residual; 130 interrupted by SIGINT (Ctrl-C), 143 by
-# SIGTERM. The options and their checks: yadeflex/module_cli.py; the run: yadeflex/impact.py.
+# SIGTERM. The options and their checks: yadeflex/module/cli.py; the run: yadeflex/module/impact.py.
 import os
 import sys
 
 HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("damping_module.py")), os.getcwd())
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 
-from yadeflex.impact import run_impact, fill_only, PROG  # noqa: E402
-from yadeflex.module_cli import parse, run_settings, OptionError  # noqa: E402
+from yadeflex.module.impact import run_impact, fill_only, PROG  # noqa: E402
+from yadeflex.module.cli import parse, run_settings, OptionError  # noqa: E402
 
 
 def main():

@@ -10,7 +10,7 @@ import sys
 HERE = next((os.path.dirname(os.path.abspath(a)) for a in sys.argv if a.endswith("options_table.py")), os.getcwd())
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "py"))
 
-from yadeflex.module_cli import readme_table, readme_with_table  # noqa: E402
+from yadeflex.module.cli import readme_table, readme_with_table  # noqa: E402
 
 if "--write" in sys.argv:
     path = os.path.join(os.path.dirname(HERE), "README.md")

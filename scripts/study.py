@@ -3,7 +3,7 @@
 #
 #     /usr/bin/python3 scripts/study.py STUDY.csv OUT_DIR [--backend local|slurm|mpi] [--workers N] [--resume] ...
 #
-# The study file, the outputs and the backends: yadeflex/study.py; --help lists the options.
+# The study file, the outputs and the backends: yadeflex/module/study.py; --help lists the options.
 import argparse
 import builtins
 import contextlib
@@ -43,7 +43,7 @@ def main(argv):
     a = ap.parse_args(argv)
     try:
         with contextlib.redirect_stdout(io.StringIO()):  # (YADE's import prints its Python version: the coordinator stays quiet)
-            from yadeflex import study
+            from yadeflex.module import study
     except ImportError as e:
         print(f"study: yadeflex cannot be imported ({e}): it needs YADE ({YADE_PY}) and the yade-flex plugin installed "
               "(scripts/setup, or scripts/run once)", file=sys.stderr)

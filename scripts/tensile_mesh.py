@@ -7,7 +7,9 @@ import csv
 import os
 import sys
 
-from yadeflex import tensile, mesh
+from yadeflex import mesh
+
+from yadeflex.harness import tensile
 
 args = [a for a in sys.argv[1:] if not a.startswith("--")]
 out = args[0] if args else "validation/tensile"

@@ -5,7 +5,7 @@
 import csv
 import sys
 
-from yadeflex import tensile
+from yadeflex.harness import tensile
 
 out = sys.argv[1] if len(sys.argv) > 1 else "validation/tensile"
 EA_REF, FB_REF = 96e9 * 24.32e-6, 37.6e3  # rope data (docs/model.md)

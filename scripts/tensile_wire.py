@@ -6,7 +6,9 @@ import sys
 
 from yade import O
 
-from yadeflex import tensile, wire
+from yadeflex import wire
+
+from yadeflex.harness import tensile
 
 out = sys.argv[1] if len(sys.argv) > 1 else "validation/tensile"
 mat = wire.tecco_wire(slack_scale=0.0)

@@ -1,9 +1,9 @@
-"""Analytic element cases: the scenes and measurements of yadeflex.cases (the tests in tests/yade
+"""Analytic element cases: the scenes and measurements of yadeflex.harness.cases (the tests in tests/yade
 assert on the same functions), each with its reference, source and tolerance."""
 import math
 
-from yadeflex import cases
-from yadeflex.verdict import Case, grade
+from yadeflex.harness import cases
+from yadeflex.harness.verdict import Case, grade
 
 GROUP = "Elements against analytic solutions"
 PLOTS = []  # (path under OUT, title), shown under the group's table
@@ -45,7 +45,7 @@ def run(full, out):
 
     r = cases.pretensioned_square(n=16 if not full else 32)
     c = _case("membrane_point_load", f"worst relative deflection error [-] a quarter side from a 1 N point load, {16 if not full else 32} cells per side",
-              "linear membrane theory T lap w = -P delta, double sine series (yadeflex.membrane_scenes)", 0.015,
+              "linear membrane theory T lap w = -P delta, double sine series (yadeflex.harness.membrane_scenes)", 0.015,
               "linear triangles: O(h^2) mesh error, 1.2% measured at 16 cells in the test suite's convergence check; the theory holds while the added strain (< 1e-5) is small against the prestrain 1e-2",
               kind="absolute", reference=0.0)
     res.append(grade(c, r["measured"]))

@@ -8,9 +8,9 @@ import shutil
 import subprocess
 import sys
 
-from yadeflex.impact import run_impact
+from yadeflex.module.impact import run_impact
 from yadeflex.module import ModuleParams
-from yadeflex.verdict import Case, grade
+from yadeflex.harness.verdict import Case, grade
 
 GROUP = "Damping module against YADE's built-in classes"
 PLOTS = [("plots/module_compare_small.png", "force and penetration, ours and built-in")]  # (path under OUT, title), shown under the group's table

@@ -1,14 +1,14 @@
-"""The module's peak impact force against the empirical cushion formulas (yadeflex.cushion:
+"""The module's peak impact force against the empirical cushion formulas (yadeflex.module.cushion:
 Labiouse 1996, JRA 2000, ASTRA 2008) over drop height and boulder mass, on the reduced module
-(yadeflex.module.ModuleParams.small, run by yadeflex.impact.run_impact as the main job runs)."""
+(yadeflex.module.ModuleParams.small, run by yadeflex.module.impact.run_impact as the main job runs)."""
 import json
 import math
 import os
 
-from yadeflex import cushion
-from yadeflex.impact import run_impact
+from yadeflex.module import cushion
+from yadeflex.module.impact import run_impact
 from yadeflex.module import ModuleParams, FILLS
-from yadeflex.verdict import Case, grade
+from yadeflex.harness.verdict import Case, grade
 
 GROUP = "Damping module against the cushion formulas (reduced module: 0.4 x 0.3 m, grains of 60-80 mm)"
 PLOTS = [("plots/cushion.png", "peak force against drop height and mass")]  # (path under OUT, title), shown under the group's table

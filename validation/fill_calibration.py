@@ -1,4 +1,4 @@
-"""What the fill presets rest on: laboratory tests of each preset's spheres (yadeflex.calibration)
+"""What the fill presets rest on: laboratory tests of each preset's spheres (yadeflex.harness.calibration)
 against documented values of the real material (GPL-2.0-or-later).
 
     PYTHONPATH=py yade-double -n -j1 -x validation/fill_calibration.py OUT [--workers 2] [--cases a,b] [--to validation/calibration]
@@ -88,7 +88,7 @@ CASES = _cases()
 
 def run_case(name, out):
     """One case in this process (under YADE): OUT/cases/NAME.json."""
-    from yadeflex import calibration as K
+    from yadeflex.harness import calibration as K
     kind, kw = CASES[name]
     t = time.time()
     if kind in ("oedometer", "plate"):

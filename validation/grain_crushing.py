@@ -191,7 +191,7 @@ def plot(res, path):
 
 
 def _fit(points):
-    from yadeflex.cushion import power_fit
+    from yadeflex.module.cushion import power_fit
     points = [(x, y) for x, y in points if y is not None and math.isfinite(y)]
     return power_fit(*zip(*points))[1] if len(points) >= 2 else None
 

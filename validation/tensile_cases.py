@@ -1,10 +1,12 @@
-"""Tensile tests of the steel parts against their data sheets and theory (yadeflex.tensile: the
+"""Tensile tests of the steel parts against their data sheets and theory (yadeflex.harness.tensile: the
 same drivers as scripts/tensile_*.py and tests/yade/test_tensile.py, test_wire.py). The panel's
 curve is written to OUT/plots/ (the tensile scripts' own files stay in tensile/)."""
 import os
 
-from yadeflex import tensile, mesh, wire
-from yadeflex.verdict import Case, grade
+from yadeflex import mesh, wire
+
+from yadeflex.harness import tensile
+from yadeflex.harness.verdict import Case, grade
 
 GROUP = "Tensile tests against data sheets"
 PLOTS = [("plots/mesh_longitudinal.png", "TECCO G65/3 panel, longitudinal")]  # (path under OUT, title), shown under the group's table

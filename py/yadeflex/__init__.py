@@ -25,7 +25,7 @@ from .parts import name_parts
 from .scene_impact import Boulder, boulder_impact
 from .deposition import deposit, settle, DepositResult, BoxRegion, CylinderRegion, GrainSizes
 from .joins import lace, edge_rope, bag, box_surface
-from .module_ids import ModuleIds
+from .module.ids import ModuleIds
 from .mass_scaling import scale_node_masses
 from .placement import placed
 

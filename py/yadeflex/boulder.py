@@ -1,32 +1,12 @@
-"""The impact's start on a filled module: the lining's mass scaling and the boulder placed above
-the fill with the speed of its drop."""
+"""Boulders: a sphere, a cube (a clump of spheres) or a clump from member spheres, placed and set
+moving (yadeflex.scene_impact's Boulder, the damping module's add_boulder); its material."""
 import math
 
 from yade import O
 from yade.minieigenHP import Vector3
 from yade.wrapper import Body, Sphere, FrictMat
 
-from .constants import G
-from .scene import step_until
-from .fill import fill_top, _sphere_body
-from .fill_cache import filled_module
-from .module_ids import ModuleIds
-from .mass_scaling import scale_node_masses
-
-
-def add_boulder(params, ids, gap=0.005):
-    """The boulder, its lowest point `gap` [m] above the highest point of the module (fill,
-    top ring), moving down with the free-fall speed of params (drop height reduced by the
-    gap, so that it reaches the fill top at sqrt(2 g h)). Returns its body id."""
-    params.validate()
-    ids = ModuleIds.of(ids)
-    top = max(fill_top(ids), max(O.bodies[n].state.pos[2] for n in ids["mesh_nodes"]) + 0.5 * params.ring_bar_diameter)
-    s = params.boulder_size()
-    v_top = params.impact_speed()
-    v0 = math.sqrt(max(0.0, v_top * v_top - 2 * G * gap))
-    mat = boulder_material(params.boulder_density)
-    ox, oy = params.impact_offset
-    return make_boulder(params.boulder_shape, s, params.boulder_mass, mat, ox, oy, top + gap, Vector3(0, 0, -v0))
+from .grains import _sphere_body
 
 
 def boulder_material(density, label="boulder"):
@@ -90,35 +70,3 @@ def touches(bid):
     """Whether body bid (a clump: one of its members) has a real interaction."""
     b = O.bodies[bid]
     return any(i.isReal for m in (list(b.shape.members.keys()) if b.isClump else [bid]) for i in O.interactions.withBody(m))
-
-
-def scale_lining_nodes(ids, m_min):
-    """Mass scaling of every module's lining for the impact (yadeflex.mass_scaling): every dynamic
-    lining node gets at least the mass m_min [kg]. The geotextile's own nodes weigh about a gram;
-    pressed between grains and wires they would set the time step of the whole impact. Returns
-    (mass added, the lining's own mass) [kg]; m_min = 0 changes nothing."""
-    added = own = 0.0
-    for m in ModuleIds.of(ids).modules:
-        a, o = scale_node_masses(m.lining_nodes, m_min)
-        added, own = added + a, own + o
-    return added, own
-
-
-def impact_start(params, cache_dir=None, max_fall=0.5):
-    """The main job's impact up to the boulder's first contact: loads (or fills) the module,
-    adds the boulder and the impact engines, and steps until the boulder touches something (for
-    benchmarks and diagnostics that look at the impact itself). Returns (ids, boulder id, the
-    boulder's member body ids), with the lining's nodes scaled as the main job scales them
-    (scale_lining_nodes). Raises RuntimeError if no contact within max_fall [s]."""
-    ids, _, _ = filled_module(params, cache_dir=cache_dir)
-    scale_lining_nodes(ids, params.lining_node_mass)
-    bid = add_boulder(params, ids)
-    O.engines = params.engines(params.damping)
-    boulder = O.bodies[bid]
-    members = set(boulder.shape.members.keys()) if boulder.isClump else {bid}
-    t0 = O.time
-    while not touches(bid):
-        if O.time - t0 > max_fall:
-            raise RuntimeError("the boulder never touched the module")
-        step_until(math.inf, 50)
-    return ids, bid, members

@@ -1,7 +1,7 @@
 """Grains deposited into any container: placed on a close-packed lattice inside a region, settled
 under gravity (-z) inside whatever bodies the scene already holds (YADE walls, facets, boxes,
 yade-flex meshes and membranes), first frictionless, then with their own friction, until at rest.
-The damping module's fill (fill.settle_grains) is this deposition in a cylinder.
+The damping module's fill (yadeflex.module.fill.settle_grains) is this deposition in a cylinder.
 
 A region is where the grains are first placed, in global coordinates [m]: a BoxRegion, a CylinderRegion, or
 any object with the same three methods:
@@ -25,8 +25,9 @@ from yade.wrapper import NewtonIntegrator
 
 from . import checks as C
 from .constants import G
-from .fill import _grain_material, _sphere_body, fill_engines, fill_preset
-from .module_params import FILL_TIMESTEP_SAFETY, LIMITS, UNBALANCED_TOL, ModuleParams
+from .grains import (DEPOSITION_FRICTION, FILL_TIMESTEP_SAFETY, SETTLE_DAMPING, UNBALANCED_TOL, _grain_material, _sphere_body, fill_engines,
+                     fill_preset)
+from .mass_scaling import _heavier_nodes, _restore_nodes
 from .scene import DAMPING, DEFAULT_TIMESTEP_SAFETY, step_until
 
 # clearance of the lattice's centres from the region's boundary, x the largest radius (a grain
@@ -271,7 +272,7 @@ def unbalanced_force():
 
 def _until_at_rest(grains, ke_tol, max_steps, report, t_min=-math.inf, balanced=False, chunk=500):
     """Steps in chunks until, from the time t_min [s] on, the grains' kinetic energy is below
-    ke_tol [J] and (balanced) unbalanced_force() below UNBALANCED_TOL: fill._settle's rule, with
+    ke_tol [J] and (balanced) unbalanced_force() below UNBALANCED_TOL: yadeflex.module.fill._settle's rule, with
     the time a fall needs and the supports' reactions left out. report(steps, kinetic energy,
     ke_tol) after each chunk. Returns the steps taken; RuntimeError after max_steps."""
     steps, ubf = 0, math.nan
@@ -293,7 +294,7 @@ def _until_at_rest(grains, ke_tol, max_steps, report, t_min=-math.inf, balanced=
 CONTAINER_NODE_SCALING = 100.0  # a yade-flex container's node masses x this while grains settle in it (settle_deposit)
 
 
-def settle_deposit(grains, material, preset, height, damping=ModuleParams.settle_damping, deposition_friction_deg=0.0, progress=None,
+def settle_deposit(grains, material, preset, height, damping=SETTLE_DAMPING, deposition_friction_deg=0.0, progress=None,
                    max_steps=400000, node_mass_scaling=None):
     """Settle the placed grains (ids; their material `material`, of fill preset `preset`) under
     gravity: without rolling resistance and frictionless (or at deposition_friction_deg [deg]:
@@ -311,7 +312,7 @@ def settle_deposit(grains, material, preset, height, damping=ModuleParams.settle
     tolerance [J], (the grains' kinetic energy [J], unbalanced_force()) at rest)."""
     p = fill_preset(preset)
     dep = C.number("deposition_friction_deg", deposition_friction_deg,
-                   dataclasses.replace(LIMITS["fill_deposition_friction_deg"], hi=min(45.0, p["friction_deg"])))
+                   dataclasses.replace(DEPOSITION_FRICTION, hi=min(45.0, p["friction_deg"])))
     max_steps = C.integer("max_steps", max_steps, 1)
     rmax = max(O.bodies[g].shape.radius for g in grains)
     check = _fell_through(grains, rmax)
@@ -329,7 +330,6 @@ def settle_deposit(grains, material, preset, height, damping=ModuleParams.settle
     # the grains alone settle at the filling's step; a container of yade-flex elements (light
     # nodes under stiff contacts) at the engines' default safety
     from yade.wrapper import FlexNode
-    from .fill import _heavier_nodes, _restore_nodes
     flex = any(b is not None and isinstance(b.shape, FlexNode) for b in O.bodies)
     safety = DEFAULT_TIMESTEP_SAFETY if flex else FILL_TIMESTEP_SAFETY
     scaling = C.number("node_mass_scaling", CONTAINER_NODE_SCALING if node_mass_scaling is None else node_mass_scaling, C.Range(1.0, 1e4))
@@ -392,7 +392,7 @@ class DepositResult:
 
 
 def deposit(region, preset="gravel", seed=1, sizes=None, spacing=None, top=None, height_fraction=None, deposition_friction_deg=0.0,
-            damping=ModuleParams.settle_damping, trim_height=None, progress=None, max_steps=400000, node_mass_scaling=None):
+            damping=SETTLE_DAMPING, trim_height=None, progress=None, max_steps=400000, node_mass_scaling=None):
     """Grains of the fill preset `preset` (a name of FILLS, a preset dict or a ModuleParams: their
     density, friction, modulus, rolling resistance) deposited into the scene's container: placed
     on a close-packed lattice in `region` (a BoxRegion, a CylinderRegion or a sequence of them, see the
@@ -408,8 +408,7 @@ def deposit(region, preset="gravel", seed=1, sizes=None, spacing=None, top=None,
     sizes = GrainSizes.of(p) if sizes is None else sizes
     rnd = seed if isinstance(seed, random.Random) else random.Random(C.integer("seed", seed, 0, 2 ** 63 - 1))
     damping = C.number("damping", damping, DAMPING)
-    C.number("deposition_friction_deg", deposition_friction_deg, dataclasses.replace(LIMITS["fill_deposition_friction_deg"],
-                                                                                     hi=min(45.0, p["friction_deg"])))
+    C.number("deposition_friction_deg", deposition_friction_deg, dataclasses.replace(DEPOSITION_FRICTION, hi=min(45.0, p["friction_deg"])))
     zlo, zhi = min(r.bounds()[0][2] for r in regions), max(r.bounds()[1][2] for r in regions)
     if top is not None and height_fraction is not None:
         raise ValueError("deposit: give top or height_fraction, not both")
@@ -448,7 +447,6 @@ def settle(damping=0.3, ke_tol=None, node_mass_scaling=1.0, max_steps=1_000_000,
     unbalanced_force() below UNBALANCED_TOL. Then the masses are restored, every body is at
     rest and the damping is back to its value. progress(steps, kinetic energy, ke_tol) after
     each chunk. Returns the steps taken; RuntimeError if not at rest after max_steps."""
-    from .fill import _heavier_nodes, _restore_nodes
     from .scene import engines
     damping = C.number("damping", damping, DAMPING)
     node_mass_scaling = C.number("node_mass_scaling", node_mass_scaling, C.Range(1.0, 1e4))

@@ -1,8 +1,7 @@
-"""The plots of an impact from its recorded rows: impact.png (the damping module's, from
-yadeflex.impact.run_impact: forces on the boulder and the slab, penetration, bulging, ring and
-rope forces; any scene's, from yadeflex.boulder_impact: the force raw and filtered, the penetration, the
-force against the penetration, the supports' reactions) and energy.png (the energy terms and the
-balance residual)."""
+"""The plots of an impact from its recorded rows: impact.png of any scene (yadeflex.boulder_impact:
+the force raw and filtered, the penetration, the force against the penetration, the supports'
+reactions; the damping module's is yadeflex.module.impact_plots) and energy.png (the energy terms
+and the balance residual)."""
 import os
 
 from .plots import term_colors
@@ -21,39 +20,6 @@ def _save(fig, path):
         if os.path.exists(path):
             os.unlink(path)
         raise OSError(e.errno, e.strerror, path) from None
-
-
-def write_plots(folder, rows, erows, keys):
-    """impact.png and energy.png into folder; rows: timeseries.csv's, erows: energy.csv's, keys:
-    the energy terms to draw."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    t = [1e3 * r["t"] for r in rows]
-    fig, ax = plt.subplots(2, 2, figsize=(11, 7))
-    ax[0, 0].plot(t, [r["impact_force"] / 1e3 for r in rows], label="on the boulder")
-    ax[0, 0].plot(t, [r["slab_force"] / 1e3 for r in rows], label="on the slab")
-    ax[0, 0].set(xlabel="t [ms]", ylabel="force [kN]", title="impact and slab forces")
-    ax[0, 0].legend()
-    ax[0, 1].plot(t, [1e3 * r["penetration"] for r in rows])
-    ax[0, 1].set(xlabel="t [ms]", ylabel="penetration [mm]", title="boulder penetration")
-    ax[1, 0].plot(t, [1e3 * r["bulge_max"] for r in rows], label="max")
-    ax[1, 0].plot(t, [1e3 * r["bulge_mean"] for r in rows], label="mean")
-    ax[1, 0].set(xlabel="t [ms]", ylabel="radial bulging [mm]", title="mesh at mid-height")
-    ax[1, 0].legend()
-    ax[1, 1].plot(t, [r["ring_top_force"] / 1e3 for r in rows], label="top ring")
-    if any(r["ring_bottom_force"] for r in rows):
-        ax[1, 1].plot(t, [r["ring_bottom_force"] / 1e3 for r in rows], label="bottom ring")
-    else:  # its nodes are pinned to the slab: it cannot stretch, so it carries nothing
-        ax[1, 1].plot([], [], " ", label="bottom ring: 0 (its nodes are pinned to the slab)")
-    if any(r["rope_force"] for r in rows):
-        ax[1, 1].plot(t, [r["rope_force"] / 1e3 for r in rows], label="boundary rope")
-    ax[1, 1].set(xlabel="t [ms]", ylabel="largest axial force [kN] (tension > 0)", title="rings and rope")
-    ax[1, 1].legend(fontsize=8)
-    fig.tight_layout()
-    _save(fig, os.path.join(folder, "impact.png"))
-    plt.close(fig)
-    write_energy_plot(folder, erows, keys)
 
 
 def write_energy_plot(folder, erows, keys):

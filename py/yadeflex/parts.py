@@ -2,9 +2,9 @@
 colours of the 3D view (yadeflex.view) and of the ParaView macro (yadeflex/paraview/), the kinds
 of contact.
 
-PARTS lists the standard parts; a body's part id is its index there. A scene built by
-yadeflex.module.build_filled names its bodies in O.tags['yadeflex_module'] (mesh, rings, rope,
-lining, slab, grains). Any scene names groups of its bodies with name_parts({"panel": ids,
+PARTS lists the standard parts; a body's part id is its index there. A structure may name its
+bodies in a tag of its own (register_structure_tag: the damping module's ids, mesh, rings, rope,
+lining, slab, grains, in O.tags['yadeflex_module']). Any scene names groups of its bodies with name_parts({"panel": ids,
 "anchors": ids, ...}) (stored in O.tags['yadeflex_parts']): a standard name keeps its id, other
 names get the ids after PARTS, in the order given (part_names() lists them all). scene_parts()
 reads both, the named groups last. A body named nowhere is a boulder if it is a clump or a clump
@@ -25,17 +25,29 @@ PART = {name: k for k, name in enumerate(PARTS)}
 COLORS = dict(other=(0.85, 0.85, 0.85), mesh=(0.10, 0.30, 0.95), ring=(0.95, 0.08, 0.08), rope=(0.0, 0.70, 0.75),
               lining=(0.10, 0.75, 0.15), slab=(0.55, 0.55, 0.55), grain=(0.80, 0.70, 0.45), boulder=(0.85, 0.10, 0.85))
 
-def module_parts(ids):
-    """dict body id -> part id from the module's ids (yadeflex.module_ids.ModuleIds or its stored
-    dictionary): every module's mesh, rings and lining, and the scene's grains, slab and rope; a
-    ring's nodes are mesh nodes."""
-    from .module_ids import ModuleIds
-    return {i: PART[name] for i, name in ModuleIds.of(ids).parts().items()}
+_STRUCTURE_TAGS = {}  # O.tags key -> function(the tag's text) -> dict body id -> standard part name
+
+
+def register_structure_tag(key, parts_of):
+    """A structure that names its bodies in a tag of its own (the damping module: its ids in
+    O.tags['yadeflex_module'], registered by yadeflex.module.ids): parts_of(the tag's text) gives
+    dict body id -> standard part name (of PARTS), read by scene_parts."""
+    _STRUCTURE_TAGS[key] = parts_of
+
+
+def structure_parts():
+    """dict body id -> standard part id from the registered structures' tags in O.tags."""
+    from yade import O
+    out, keys = {}, O.tags.keys()
+    for key, parts_of in _STRUCTURE_TAGS.items():
+        if key in keys:
+            out.update({i: PART[name] for i, name in parts_of(O.tags[key]).items()})
+    return out
 
 
 USER_TAG = "yadeflex_parts"
-PALETTE = ((0.12, 0.47, 0.71), (1.0, 0.50, 0.05), (0.17, 0.63, 0.17), (0.84, 0.15, 0.16), (0.58, 0.40, 0.74), (0.55, 0.34, 0.29),
-           (0.89, 0.47, 0.76), (0.50, 0.50, 0.50), (0.74, 0.74, 0.13), (0.09, 0.75, 0.81))  # colours of named groups, in turn
+PALETTE = ((1.0, 0.50, 0.05), (0.17, 0.63, 0.17), (0.58, 0.40, 0.74), (0.55, 0.34, 0.29), (0.74, 0.74, 0.13), (0.89, 0.47, 0.76),
+           (0.09, 0.75, 0.81), (0.84, 0.15, 0.16), (0.50, 0.50, 0.50), (0.12, 0.47, 0.71))  # colours of named groups, in turn
 
 
 def name_parts(groups):
@@ -100,11 +112,10 @@ def part_color(name):
 
 
 def scene_parts(standard_only=False):
-    """dict body id -> part id: module_parts of the scene's module (O.tags['yadeflex_module']),
-    then the named groups (name_parts); standard_only: the module's alone (the standard parts
+    """dict body id -> part id: the registered structures' (structure_parts: a damping module's),
+    then the named groups (name_parts); standard_only: the structures' alone (the standard parts
     the contact kinds use)."""
-    from yade import O
-    out = module_parts(json.loads(O.tags["yadeflex_module"])) if "yadeflex_module" in O.tags.keys() else {}
+    out = structure_parts()
     if not standard_only:
         names = part_names()
         for name, ids in named_groups().items():
@@ -114,7 +125,7 @@ def scene_parts(standard_only=False):
 
 
 def part_of(body, table):
-    """Part id of a body (not None): table's (a dict from scene_parts or module_parts), else
+    """Part id of a body (not None): table's (a dict from scene_parts), else
     from its shape (see the module docstring)."""
     from yade.wrapper import Sphere, Wall
     p = table.get(body.id)

@@ -1,6 +1,6 @@
 """The impact runner: a boulder onto whatever the scene holds, recorded into a results folder.
 
-- boulder_impact(out, boulder, ...) (yadeflex.scene_impact): the generic run on the scene in O (yadeflex.impact.run_impact, the
+- boulder_impact(out, boulder, ...) (yadeflex.scene_impact): the generic run on the scene in O (yadeflex.module.impact.run_impact, the
   damping module's main job, is one use of the same machinery).
 - ImpactRun: one run, step by step; the scene-specific parts are its hooks (prepare, the
   scene's columns, the summary's numbers, the plots). RunSettings: how a run is run and judged.

@@ -287,9 +287,6 @@ class SceneImpact(R.ImpactRun):
     def prepare(self):
         if self.parts_given:
             P.name_parts(self.parts_given)
-        self.names = P.part_names()
-        table = P.scene_parts()
-        self.name_of = {i: self.names[k] for i, k in table.items()}
         if not O.engines:
             from .scene import engines
             O.engines = engines(damping=self.damping)
@@ -303,6 +300,12 @@ class SceneImpact(R.ImpactRun):
         if len(O.bodies) == 0:
             raise ValueError("the scene is empty: build the structure before the impact")
         bid = self.spec.add(g)
+        groups = P.named_groups()
+        if not O.bodies[bid].isClump and not any(bid in ids for ids in groups.values()):
+            P.name_parts(dict(groups, boulder=[bid]))  # (a clump and its members are the boulder already)
+        self.names = P.part_names()
+        table = P.scene_parts()
+        self.name_of = {i: self.names[k] for i, k in table.items()}
         self.boulder = O.bodies[bid]
         self.mass = self.boulder.state.mass
         self.direction = Vector3(*self.spec.direction)

@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM during a run (yadeflex.impact.run_impact): raised as Interrupted at once,
+"""SIGINT and SIGTERM during a run (yadeflex.module.impact.run_impact): raised as Interrupted at once,
 except while a record is being written, which they end first; once the run is over they are only
 noted, so that its summary is written whole."""
 import contextlib

@@ -5,7 +5,9 @@ import pytest
 from yade import O
 from yade.minieigenHP import Vector3
 
-from yadeflex import scenes, cases
+from yadeflex.harness import scenes
+
+from yadeflex.harness import cases
 import yadeflex as yf
 from tol import assert_rel, circle_I, STEEL_E, STEEL_RHO, G
 

@@ -10,7 +10,10 @@ import pytest
 from yade import O
 
 import yadeflex as yf
-from yadeflex import builders, checks, materials, membrane, membrane_scenes, mesh, rope, scene as scene_mod, scenes, tensile, wire
+from yadeflex import builders, checks, materials, membrane, mesh, rope, scene as scene_mod, wire
+from yadeflex.harness import membrane_scenes
+from yadeflex.harness import scenes
+from yadeflex.harness import tensile
 from yadeflex.module import ModuleParams
 
 NAN, BIG = math.nan, 1e300

@@ -1,4 +1,4 @@
-"""The fill's laboratory tests (yadeflex.calibration): the read-outs against exact geometry and
+"""The fill's laboratory tests (yadeflex.harness.calibration): the read-outs against exact geometry and
 elasticity, and the oedometer against the force balance of a quasi-static compression."""
 import math
 import random
@@ -6,7 +6,7 @@ import random
 import numpy as np
 import pytest
 
-from yadeflex import calibration as K
+from yadeflex.harness import calibration as K
 from yadeflex.checks import BadValue
 
 

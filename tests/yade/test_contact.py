@@ -7,8 +7,8 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex import scenes
-from yadeflex.scenes import sphere
+from yadeflex.harness import scenes
+from yadeflex.harness.scenes import sphere
 from tol import assert_rel
 
 

@@ -8,8 +8,8 @@ import pytest
 from yade import O
 
 import yadeflex as yf
-import yadeflex.scenes as S
-from yadeflex import cases
+import yadeflex.harness.scenes as S
+from yadeflex.harness import cases
 from yadeflex import crushing as K
 
 
@@ -122,7 +122,7 @@ def test_the_study_report_counts_the_grains_of_each_strength_and_fills_its_table
 
 
 def test_crushing_contact_rebounds_with_the_elastic_plastic_restitution(scene):
-    """A sphere hits a fixed larger sphere, frictionless, with crushing on (yadeflex.cases.
+    """A sphere hits a fixed larger sphere, frictionless, with crushing on (yadeflex.harness.cases.
     crushing_bounce): the normal force stops at the smaller sphere's failure load P; unloading is
     elastic from there, so the rebound carries P^2 / (2 kn) and the speed is P / sqrt(m kn)
     (restitution P / (v0 sqrt(m kn)), the elastic peak force's share); the rest is booked as

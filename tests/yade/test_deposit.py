@@ -11,9 +11,10 @@ from yade.wrapper import FrictMat
 import yadeflex as yf
 from yadeflex.checks import BadValue
 from yadeflex.deposition import CLEARANCE, SPACING, BoxRegion, CylinderRegion, GrainSizes, deposit, lattice_sites, place_grains
-from yadeflex.fill import FILLS, _grain_material, _placement
+from yadeflex.grains import FILLS, _grain_material
+from yadeflex.module.fill import _placement
 from yadeflex.mesh import TECCO_G65_DX, TECCO_G65_DY, TECCO_G65_WIRE_RADIUS
-from yadeflex.module_params import PLACED_HEIGHT, UNBALANCED_TOL
+from yadeflex.module.params import PLACED_HEIGHT, UNBALANCED_TOL
 
 G = 9.81
 

@@ -5,7 +5,8 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex import scenes, cases
+from yadeflex.harness import scenes
+from yadeflex.harness import cases
 
 
 def _impact(friction_deg, vel):

@@ -6,7 +6,7 @@ from yade import O
 from yade.wrapper import Body, FlexCylinder, FrictMat
 
 import yadeflex as yf
-from yadeflex.scenes import sphere
+from yadeflex.harness.scenes import sphere
 
 
 @pytest.mark.parametrize("radius", [0, -1e-3, math.nan, math.inf])

@@ -1,13 +1,14 @@
 """Exactness off the damping module's path: a boulder on bare chain-link mesh, fabric that folds,
-a body driven at a prescribed speed. Each scene is a library builder (yadeflex.scenes,
-yadeflex.membrane_scenes), as a user builds it; each assertion is an energy balance or a known
+a body driven at a prescribed speed. Each scene is a library builder (yadeflex.harness.scenes,
+yadeflex.harness.membrane_scenes), as a user builds it; each assertion is an energy balance or a known
 value."""
 import pytest
 from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex import scenes, membrane_scenes
+from yadeflex.harness import scenes
+from yadeflex.harness import membrane_scenes
 
 
 def _balance(t_end, boulder=None, every=10):

@@ -10,9 +10,9 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import ForceResetter, FlexElementEngine
 
 import yadeflex as yf
-import yadeflex.scenes as S
-import yadeflex.membrane_scenes as MS
-from yadeflex import cases
+import yadeflex.harness.scenes as S
+import yadeflex.harness.membrane_scenes as MS
+from yadeflex.harness import cases
 from yadeflex.scene import engines
 
 R, RF = 0.1, 0.001                     # sphere radius, facet half thickness [m]

@@ -42,7 +42,7 @@ def test_heavier_nodes_settle_to_the_same_equilibrium_and_are_restored(scene):
     """The structure's settle with mass scaling (yadeflex.module._heavier_nodes): a cantilever
     under its own weight, its nodes 50 x heavier with their weight held at m g, settles to the
     deflection it settles to with its own masses; the masses, inertias and forces come back."""
-    from yadeflex import scenes as S
+    from yadeflex.harness import scenes as S
     from yadeflex.module import _heavier_nodes, _restore_nodes
 
     def tip_deflection(factor):

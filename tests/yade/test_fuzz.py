@@ -14,7 +14,7 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import FlexCylinder, FlexFacet, FlexNode, Sphere, FlexMat, FlexMembraneMat, PyRunner
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 from yadeflex.membrane import sheet, geotextile
 
 SEED, CASES, STEPS = 20261203, 400, 5

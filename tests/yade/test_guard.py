@@ -9,7 +9,7 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import FlexGuard, PyRunner
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 
 @pytest.fixture(autouse=True)

@@ -5,7 +5,7 @@ from yade import O
 from yade.wrapper import NewtonIntegrator, FlexNewtonIntegrator
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 
 def _run(cls, steps=1500):

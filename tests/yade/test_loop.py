@@ -15,7 +15,7 @@ from yade import O
 from yade.wrapper import ElastMat, FlexInteractionLoop, InteractionLoop
 
 import yadeflex as yf
-import yadeflex.scenes as S
+import yadeflex.harness.scenes as S
 from module_state import reduced_impact
 
 

@@ -1,14 +1,14 @@
 """Mass scaling of light nodes (yadeflex.mass_scaling) on any membrane or mesh, and the fill
-helpers taking any form of a fill preset (yadeflex.fill.fill_preset)."""
+helpers taking any form of a fill preset (yadeflex.module.fill.fill_preset)."""
 import pytest
 from yade import O
 
 import yadeflex as yf
 from yadeflex.checks import BadValue
-from yadeflex.fill import FILLS, fill_engines, fill_preset
+from yadeflex.grains import FILLS, fill_engines, fill_preset
 from yadeflex.mass_scaling import scale_node_masses
 from yadeflex.module import ModuleParams, scale_lining_nodes
-from yadeflex.scenes import sphere
+from yadeflex.harness.scenes import sphere
 
 
 def test_light_nodes_of_a_sheet_get_the_mass_asked_their_inertia_scaled_alike(scene):

@@ -96,7 +96,7 @@ def test_recorded_impact_force_is_the_contact_force_on_the_boulder(small_run, sc
     recorder's own numbers and could not)."""
     import __main__
     from yade import O, PyRunner
-    from yadeflex import impact
+    from yadeflex.module import impact
     from yadeflex.module import ModuleParams
     base, _, _ = small_run
     p = ModuleParams.small()
@@ -146,7 +146,8 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
     import math as m
     from yade import O
     from yade.minieigenHP import Vector3
-    from yadeflex import impact, runner
+    from yadeflex import runner
+    from yadeflex.module import impact
     from yadeflex.module import ModuleParams
     base, _, _ = small_run
     real = runner.step_until
@@ -180,7 +181,8 @@ def test_a_motion_made_non_finite_ends_the_run_as_unstable(small_run, scene, tmp
 def test_summary_says_impact_while_the_impact_runs(small_run, scene, tmp_path, monkeypatch):
     """A run killed outright (kill -9) during the impact left summary.json saying "stage": "fill"
     beside hundreds of impact rows: the stage is written when the impact starts."""
-    from yadeflex import impact, runner
+    from yadeflex import runner
+    from yadeflex.module import impact
     from yadeflex.module import ModuleParams
     base, _, _ = small_run
     out, real, seen = tmp_path / "out", runner.step_until, []
@@ -451,7 +453,7 @@ def test_a_save_on_a_full_disk_raises_naming_the_file_and_leaves_nothing(full_di
     it loops in its close); the cache's save raises OSError naming the file, at once, and
     leaves no file behind; on a disk with room the file it writes loads back the same scene."""
     from yade import O
-    from yadeflex import scenes
+    from yadeflex.harness import scenes
     from yadeflex.module import save_compressed
     scenes.drop_on_surface("net", "wall", cells=80)
     n = len(O.bodies)

@@ -73,10 +73,10 @@ def test_the_impact_time_is_split_into_its_parts(first_run):
 
 
 def test_the_library_runner_writes_the_rows_of_the_job(first_run, tmp_path, scene):
-    """yadeflex.impact.run_impact called in this process (no progress lines) writes the rows the
+    """yadeflex.module.impact.run_impact called in this process (no progress lines) writes the rows the
     main job writes from the same cached fill, bit for bit (one thread): the job is its options and
     this one call."""
-    from yadeflex.impact import run_impact
+    from yadeflex.module.impact import run_impact
     from yadeflex.module import ModuleParams
     base, _, _ = first_run
     r, _ = _run(tmp_path / "job", base / "cache", "--small", "--no-vtk")
@@ -208,7 +208,7 @@ def test_an_output_folder_that_cannot_be_written_is_refused_before_the_fill(tmp_
 
 
 def test_a_cache_folder_under_a_file_is_refused_with_the_options(tmp_path):
-    """Seen in the options (yadeflex.module_cli): status 1 and one line, nothing written."""
+    """Seen in the options (yadeflex.module.cli): status 1 and one line, nothing written."""
     (tmp_path / "f").write_text("a regular file\n")
     cache = tmp_path / "f" / "cache"
     r, _ = _run(tmp_path / "out", cache, "--small", "--no-vtk", timeout=120)
@@ -327,7 +327,7 @@ def test_broken_elements_are_counted_by_kind(first_run, scene):
     outwards, one on the top ring; ring steel and geotextile made weak): the counts by kind
     equal those by material, and add up to the engine's total."""
     from yade.minieigenHP import Vector3
-    from yadeflex.impact import BrokenElements
+    from yadeflex.module.impact import BrokenElements
     from yadeflex.module import ModuleParams, filled_module
     base, _, _ = first_run
     p = ModuleParams.small()
@@ -353,7 +353,7 @@ def test_broken_elements_are_counted_by_kind(first_run, scene):
 def test_broken_elements_of_every_module_and_the_rope():
     """The kinds come from every module's ids, not the first module's only (which the top level
     of the ids repeats), and the rope's."""
-    from yadeflex.impact import BrokenElements
+    from yadeflex.module.impact import BrokenElements
     m0 = dict(mesh_cylinders=[1, 2], ring_top=[3], ring_bottom=[4], lining=[5])
     m1 = dict(mesh_cylinders=[11, 12], ring_top=[13], ring_bottom=[14], lining=[15])
     ids = dict(m0, modules=[m0, m1], rope=[21, 22], grains=[30])

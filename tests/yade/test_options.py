@@ -8,7 +8,7 @@ import subprocess
 import pytest
 
 from conftest import REPO
-from yadeflex import module_cli as cli
+from yadeflex.module import cli as cli
 from yadeflex.module import FILLS, ModuleParams
 
 SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")

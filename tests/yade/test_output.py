@@ -14,8 +14,8 @@ from yade.minieigenHP import Quaternion, Vector3
 from yade.wrapper import Body, Box, FlexNode, FrictMat
 
 import yadeflex as yf
-import yadeflex.membrane_scenes as MS
-import yadeflex.scenes as S
+import yadeflex.harness.membrane_scenes as MS
+import yadeflex.harness.scenes as S
 
 
 # ---- helpers ----------------------------------------------------------------------------------
@@ -338,7 +338,8 @@ def test_module_parts_from_the_module_ids(scene):
     ids = dict(grains=[1, 2], wall=0, rope=[30], rope_nodes=[31], modules=[
         dict(mesh_cylinders=[10], mesh_nodes=[11, 12], ring_top=[13], ring_bottom=[14], lining=[20], lining_nodes=[21]),
         dict(mesh_cylinders=[40], mesh_nodes=[41], ring_top=[42], ring_bottom=[43], lining=[44], lining_nodes=[45])])
-    got = P.module_parts(ids)
+    from yadeflex.module.ids import module_parts
+    got = module_parts(ids)
     want = {0: "slab", 1: "grain", 2: "grain", 30: "rope", 31: "rope", 10: "mesh", 11: "mesh", 12: "mesh", 13: "ring", 14: "ring",
             20: "lining", 21: "lining", 40: "mesh", 41: "mesh", 42: "ring", 43: "ring", 44: "lining", 45: "lining"}
     assert {k: P.PARTS[v] for k, v in got.items()} == want
@@ -348,10 +349,10 @@ def test_module_parts_from_the_module_ids(scene):
 
 
 def test_module_ids_are_typed_and_read_as_their_stored_dictionary():
-    """ModuleIds (yadeflex.module_ids): made from the stored dictionary, it reads as it (the top
+    """ModuleIds (yadeflex.module.ids): made from the stored dictionary, it reads as it (the top
     level also as the first module), stores back the same, gathers a key over every module, and
     names a body by the first key it is under; anything else is refused with its reason."""
-    from yadeflex.module_ids import ModuleIds, ModuleStructureIds
+    from yadeflex.module.ids import ModuleIds, ModuleStructureIds
     m0 = dict(center=[0.0, 0.0], mesh_cylinders=[10], mesh_nodes=[11, 12], ring_top=[13], ring_bottom=[14], lining=[20],
               lining_nodes=[21], base_nodes=[11], mesh_params=dict(opening=0.083))
     m1 = dict(center=[1.0, 0.0], mesh_cylinders=[40], mesh_nodes=[41], ring_top=[42], ring_bottom=[43], lining=[44],

@@ -33,7 +33,7 @@ def run_dir(tmp_path_factory, module_cache):
     if YP.pvpython() is None:
         pytest.skip("no pvpython (Debian paraview; it removes python3-vtk9, so unpack it and set YADEFLEX_PVPYTHON: "
                     "see yadeflex/paraview/__init__.py) or, without a display, no Xvfb (Debian package xvfb)")
-    from yadeflex.impact import run_impact
+    from yadeflex.module.impact import run_impact
     from yadeflex.module import ModuleParams
     out = str(tmp_path_factory.mktemp("pvrun"))
     s = run_impact(ModuleParams.small(), out, cache_dir=module_cache, progress=False, duration=0.01)

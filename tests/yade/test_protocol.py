@@ -5,7 +5,7 @@ import pytest
 from yade import O
 
 import yadeflex as yf
-from yadeflex.scenes import sphere
+from yadeflex.harness.scenes import sphere
 
 
 def _two_spheres():

@@ -8,7 +8,7 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-import yadeflex.scenes as S
+import yadeflex.harness.scenes as S
 
 
 def _pair(eta, beta, omega0=5.0):

@@ -16,7 +16,7 @@ from yade.minieigenHP import Vector3
 from yade.wrapper import PyRunner, TranslationEngine
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 FULL_CHECK_PERIOD = 32  # tuning::kFullCheckPeriod (pkg/yade/speed/FlexTuning.hpp)
 

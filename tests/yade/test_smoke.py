@@ -6,7 +6,7 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex.scenes import sphere, advance
+from yadeflex.harness.scenes import sphere, advance
 
 
 def _build():

@@ -1,5 +1,5 @@
 """Stability of the net impact at and above the estimated critical step (issue 6), with the runner
-of the stability suite, yadeflex.stability (time step = factor x FlexTimeStepper.dtCritical every
+of the stability suite, yadeflex.harness.stability (time step = factor x FlexTimeStepper.dtCritical every
 step, FlexGuard first, energy balance from O.energy).
 
 Scene: 20 x 20 steel wires 50 mm apart, r = 2 mm, border clamped, sphere r = 0.1 m at 5 m/s
@@ -15,7 +15,7 @@ import math
 
 from yade import O
 
-from yadeflex import stability as st
+from yadeflex.harness import stability as st
 
 
 def _net(t_end):

@@ -1,4 +1,4 @@
-"""Parametric studies (yadeflex.study, scripts/study): a bad cell is named by its row and column
+"""Parametric studies (yadeflex.module.study, scripts/study): a bad cell is named by its row and column
 before anything runs; a 12-run study of small modules runs through the local backend, each run
 with the inputs of its row and its module filled once; the mpi and slurm backends give the same
 results.csv values; a worker killed loses only its run, a failed run is a result, and --resume
@@ -21,7 +21,7 @@ from conftest import REPO
 from local_slurm import LocalSlurm, unavailable
 from tol import G
 
-from yadeflex import study
+from yadeflex.module import study
 
 STUDY = os.path.join(REPO, "scripts", "study")
 # small modules, a 20 ms impact: about 5 s a run (one fill of 15 s shared by all)
@@ -258,7 +258,7 @@ def test_the_runs_of_a_study_are_not_pinned_to_one_cpu(tmp_path, monkeypatch):
     """With OMP_PROC_BIND=true in the environment (an HPC habit), OpenMP pins a one-thread YADE to
     the first CPU it may use, the same CPU for every run of a local pool. A study's run keeps every
     CPU of the study."""
-    from yadeflex.study_task import run_task
+    from yadeflex.module.study_task import run_task
     cpus = sorted(os.sched_getaffinity(0))
     if len(cpus) < 2:
         pytest.skip("one CPU: nothing to pin")
@@ -295,7 +295,7 @@ def test_more_workers_than_cpus_are_named_before_the_runs(tmp_path, cache, monke
 
 
 def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
-    from yadeflex.study_task import run_task
+    from yadeflex.module.study_task import run_task
     folder = str(tmp_path / "run")
     t = dict(name="slow", cmd=["sleep", "30"], folder=folder, status=os.path.join(folder, study.STATUS_FILE), timeout=0.5)
     t0 = time.time()
@@ -306,7 +306,7 @@ def test_a_run_past_its_timeout_is_stopped_and_recorded(tmp_path):
 
 
 def test_a_run_whose_fill_failed_is_recorded_without_running(tmp_path):
-    from yadeflex.study_task import run_task
+    from yadeflex.module.study_task import run_task
     fill = dict(name="fill-x", cmd=["sh", "-c", "echo 'RuntimeError: the fill did not settle'; exit 1"], folder=str(tmp_path / "fill"),
                 status=str(tmp_path / "fill" / study.STATUS_FILE))
     assert run_task(fill)["exit_status"] == 1
@@ -340,6 +340,16 @@ def test_the_coordinator_prints_only_its_own_lines(tmp_path):
     assert r.stderr.strip().splitlines() == ["study: row 1 (line 2), column repeat: got '0'; allowed a whole number in [1, 1000] (a fill each)"], r.stderr
 
 
+def _in_contact(series):
+    """Whether a run's timeseries.csv has a row with a force on the boulder (above 1 N)."""
+    try:
+        with open(series) as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError:
+        return False
+    return any(float(v) > 1.0 for r in rows for k, v in r.items() if k and k.startswith("impact_force") and v)
+
+
 def _alive(pid):
     try:
         with open(f"/proc/{pid}/stat") as fh:
@@ -363,8 +373,11 @@ def test_a_signal_cancels_the_queue_and_records_every_row(local_study, cache, tm
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     first = os.path.join(out, "runs", rows[0]["name"], "summary.json")
+    series = os.path.join(out, "runs", rows[0]["name"], "timeseries.csv")
     t0 = time.time()
-    while not (os.path.exists(first) and (json.load(open(first)) or {}).get("stage") == "impact"):
+    # until the boulder of the first run is in contact (a recorded force): its partial results
+    # then hold a peak, however long the machine takes to get there
+    while not (os.path.exists(first) and (json.load(open(first)) or {}).get("stage") == "impact" and _in_contact(series)):
         assert proc.poll() is None and time.time() - t0 < 300, "the first run never reached its impact"
         time.sleep(0.05)
     pid = json.load(open(first))["pid"]
@@ -390,7 +403,7 @@ def test_a_task_stopped_before_its_run_wrote_results_says_so(tmp_path):
     folder = str(tmp_path / "run")
     tasks = tmp_path / "tasks.json"
     tasks.write_text(json.dumps([dict(name="r", cmd=["sleep", "30"], folder=folder, status=os.path.join(folder, study.STATUS_FILE))]))
-    p = subprocess.Popen([sys.executable, os.path.join(REPO, "py", "yadeflex", "study_task.py"), str(tasks), "0"])
+    p = subprocess.Popen([sys.executable, os.path.join(REPO, "py", "yadeflex", "module", "study_task.py"), str(tasks), "0"])
     children = f"/proc/{p.pid}/task/{p.pid}/children"
     t0 = time.time()
     while not open(children).read().strip():  # until the task has started its process

@@ -1,5 +1,5 @@
 """Elements against YADE's rigid surfaces: a net of wires and a geotextile sheet on a Wall, on a
-floor of two Facets and on a Box (yadeflex.scenes.drop_on_surface, as a user builds it). Each
+floor of two Facets and on a Box (yadeflex.harness.scenes.drop_on_surface, as a user builds it). Each
 node meets the surface once (pkg/kernel/Surface.hpp); asserted against the analytic bounce of a
 linear spring, the statics of a structure at rest, and the energy balance."""
 import math
@@ -9,7 +9,7 @@ from yade import O
 from yade.wrapper import InteractionLoop, FlexInteractionLoop
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 CASES = [(st, su) for st in scenes.STRUCTURES for su in scenes.SURFACES]
 IDS = [f"{st}-{su}" for st, su in CASES]

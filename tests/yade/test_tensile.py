@@ -8,7 +8,8 @@ import pytest
 from yade import O
 
 import yadeflex as yf
-from yadeflex import tensile, mesh, wire
+from yadeflex import mesh, wire
+from yadeflex.harness import tensile
 from tol import assert_rel
 
 ROPE_EA = 96e9 * 24.32e-6  # [N] datasheet E x metallic area (docs/model.md)

@@ -6,8 +6,8 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 import yadeflex as yf
-from yadeflex import scenes
-from yadeflex.scenes import sphere
+from yadeflex.harness import scenes
+from yadeflex.harness.scenes import sphere
 from tol import assert_rel
 
 
@@ -186,7 +186,7 @@ def _net_target():
 
 
 def _sheet_target():
-    from yadeflex import membrane_scenes
+    from yadeflex.harness import membrane_scenes
     s = membrane_scenes.sheet_impact(n=10, drop=0.0)
     O.bodies[s["sphere"]].state.vel = (0, 0, -6.0)
     return (0.1, 0.9), 0.02, 0.03
@@ -275,7 +275,8 @@ def test_leaving_out_unreachable_pairs_lengthens_the_step_of_a_stretched_panel(s
     """A TECCO panel pulled apart: its wires never touch, so the step is set by the wires
     themselves (bonds) once the potential wire-wire pairs are left out; counting them all
     bounds it by a contact stiffness E r far above the legs' EA/L."""
-    from yadeflex import tensile, wire, mesh
+    from yadeflex import wire, mesh
+    from yadeflex.harness import tensile
     cal = mesh.TECCO_MESH_CALIBRATION
     tensile.mesh_panel_scene(width=0.5, height=0.5, direction="longitudinal", speed=0.05, damping=0.2,
                              material=wire.tecco_wire(slack_scale=cal["slack_scale"], force_ratio=cal["force_ratio"]))

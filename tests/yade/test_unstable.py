@@ -8,7 +8,7 @@ from yade import O
 from yade.wrapper import FlexTimeStepper, FlexGuard
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 
 def test_unstable_is_a_value_error_and_a_runtime_error():

@@ -84,7 +84,7 @@ def test_readme_lists_every_case_with_its_verdict_and_plots(report):
 def test_cushion_formulas_against_hand_computed_values():
     """1000 kg from 10 m (W = 9.81 kN), R = 0.5 m, M_E = 5000 kN/m2, lambda = 1000 kN/m2, e = 1 m,
     phi = 35 degrees, computed by hand in the formulas' units (kN, m, kN/m2, kJ)."""
-    from yadeflex import cushion
+    from yadeflex.module import cushion
     assert cushion.jra_2000(1000.0, 10.0, 1000e3) == pytest.approx(609.51e3, rel=1e-4)
     assert cushion.labiouse_1996(1000.0, 10.0, 0.5, 5000e3) == pytest.approx(726.32e3, rel=1e-4)
     assert cushion.astra_2008(1000.0, 10.0, 0.5, 5000e3, 1.0, 35.0) == pytest.approx(681.77e3, rel=1e-4)
@@ -95,7 +95,7 @@ def test_cushion_formulas_against_hand_computed_values():
 
 
 def test_a_case_without_a_finite_measurement_is_not_measured():
-    from yadeflex.verdict import Case, grade
+    from yadeflex.harness.verdict import Case, grade
     c = Case(name="x", group="g", quantity="q", reference=1.0, source="s", tolerance=0.1, kind="relative", justification="j")
     assert grade(c, float("nan")).verdict == "NOT MEASURED"
     assert grade(c, 1.05).verdict == "PASS" and grade(c, 1.2).verdict == "FAIL"

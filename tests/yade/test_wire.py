@@ -8,7 +8,8 @@ from yade import O, Vector3
 from yade.wrapper import FlexElementEngine
 
 import yadeflex as yf
-from yadeflex import tensile, wire
+from yadeflex import wire
+from yadeflex.harness import tensile
 from conftest import run_yade, HERE
 from tol import assert_rel
 
@@ -231,7 +232,8 @@ def test_mesh_impact_energy_balance_closes_with_plastic_links(scene):
     damping: the links straighten their slack and yield (flexBondPlastic takes most of the
     energy), and kinetic + elastic + plastic + friction - gravity work stays equal to the
     initial kinetic energy (measured residual 1.3e-4)."""
-    from yadeflex import mesh, scenes, builders as B
+    from yadeflex import mesh, builders as B
+    from yadeflex.harness import scenes
     mat = wire.tecco_wire(seed=5)
     p = mesh.chain_link_panel(0.6, 0.6, mat)
     B.fix(sorted(set(sum(p["edges"].values(), []))), "xyz")

@@ -4,7 +4,7 @@ import os
 import signal
 import sys
 
-from yadeflex import impact
+from yadeflex.module import impact
 from yadeflex.module import ModuleParams
 
 out, cache, sig = sys.argv[1], sys.argv[2], getattr(signal, sys.argv[3])

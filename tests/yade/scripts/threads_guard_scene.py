@@ -12,7 +12,7 @@ from yade import O
 from yade.wrapper import InteractionLoop
 
 import yadeflex as yf
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 mode = sys.argv[1]
 if mode == "energy":

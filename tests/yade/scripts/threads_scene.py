@@ -6,7 +6,7 @@ import sys
 
 from yade import O
 
-from yadeflex import scenes
+from yadeflex.harness import scenes
 
 N = int(sys.argv[1]) if len(sys.argv) > 1 else 600
 kind = sys.argv[2] if len(sys.argv) > 2 else "sag"

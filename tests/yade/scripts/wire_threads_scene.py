@@ -7,7 +7,7 @@ import sys
 
 from yade import O
 
-from yadeflex import tensile
+from yadeflex.harness import tensile
 
 T = float(sys.argv[1]) if len(sys.argv) > 1 else 4.8e-3
 parallel = len(sys.argv) > 2 and sys.argv[2] == "1"

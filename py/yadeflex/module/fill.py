@@ -5,33 +5,16 @@ import random
 
 from yade import O
 from yade.minieigenHP import Vector3
-from yade.wrapper import Body, Sphere, FrictMat, FlexNode, NewtonIntegrator
+from yade.wrapper import FrictMat, Sphere
 
-from . import builders as B
-from . import checks as C
-from . import membrane as M
-from .mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
-from .module_ids import ModuleIds, ModuleStructureIds
-from .scene import engines, step_until
-from .module_params import (FILL_TIMESTEP_SAFETY, FILLS, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, UNBALANCED_TOL, ModuleParams, check_fill,
-                            fill_radii, lining_cells_around)
-
-
-def _grain_material(p, seedless_label="fill"):
-    m = FrictMat(young=p["young"], poisson=0.3, density=p["density"], frictionAngle=math.radians(p["friction_deg"]), label=seedless_label)
-    O.materials.append(m)
-    return m
-
-
-def _sphere_body(center, radius, mat):
-    b = Body()
-    b.shape = Sphere(radius=radius)
-    b.material = mat
-    b.state.pos = center
-    m = mat.density * 4 / 3 * math.pi * radius ** 3
-    b.state.mass = m
-    b.state.inertia = Vector3(1, 1, 1) * 0.4 * m * radius * radius
-    return O.bodies.append(b)
+from .. import builders as B
+from .. import membrane as M
+from ..mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECCO_WIRE_RADIUS
+from .ids import ModuleIds, ModuleStructureIds
+from ..grains import FILL_TIMESTEP_SAFETY, UNBALANCED_TOL, _grain_material, _sphere_body, fill_preset
+from ..mass_scaling import _heavier_nodes, _restore_nodes
+from ..scene import step_until
+from .params import MAX_NODE_MASS_SCALING, PLACED_HEIGHT, ModuleParams, fill_radii, lining_cells_around
 
 
 def _placement(r, z0, z1, a):
@@ -92,38 +75,6 @@ def _relayout():
     O.loadTmp("yadeflex_fill")
 
 
-def _heavier_nodes(factor):
-    """Mass scaling for a quasi-static settle: the dynamic FlexNodes' mass and rotational inertia
-    x factor (>= 1), their weight held at m g by a permanent force (factor - 1) m g upwards. The
-    static equilibrium is the same; FlexTimeStepper's step for the elements grows as
-    sqrt(factor). Returns what _restore_nodes needs."""
-    if factor <= 1.0:
-        return []
-    g = next(e for e in O.engines if isinstance(e, NewtonIntegrator)).gravity
-    out = []
-    for b in O.bodies:
-        if b is not None and isinstance(b.shape, FlexNode) and b.dynamic:
-            m, inertia = b.state.mass, Vector3(b.state.inertia)
-            out.append((b.id, m, inertia))
-            b.state.mass = m * factor
-            b.state.inertia = inertia * factor
-            O.forces.setPermF(b.id, -(factor - 1.0) * m * g)
-    return out
-
-
-def _restore_nodes(heavier):
-    """Undo _heavier_nodes: the nodes' own mass and inertia, no permanent force, everything at rest."""
-    for bid, m, inertia in heavier:
-        b = O.bodies[bid]
-        b.state.mass, b.state.inertia = m, inertia
-    if heavier:
-        O.forces.reset()
-    for b in O.bodies:
-        if b is not None and b.dynamic:
-            b.state.vel = Vector3(0, 0, 0)
-            b.state.angVel = Vector3(0, 0, 0)
-
-
 def settle_fill(params, r_in, rnd, progress=None):
     """Stage 1 on an empty O: the module's grains settled in their container of radius r_in
     (settle_grains with the module's preset, height, centres and settle damping), the container
@@ -132,33 +83,6 @@ def settle_fill(params, r_in, rnd, progress=None):
                                             damping=params.settle_damping, progress=progress,
                                             deposition_friction_deg=params.fill_deposition_friction_deg)
     return wall, grains, ke_tol
-
-
-PRESET_KEYS = ("grain_min", "grain_max", "density", "friction_deg", "young", "rolling_friction")
-
-
-def fill_preset(p):
-    """The fill preset (a dict of PRESET_KEYS) of p: a ModuleParams (its preset(), with its
-    overrides), the name of a preset of FILLS, or a preset dict (checked for its keys)."""
-    if isinstance(p, ModuleParams):
-        return p.preset()
-    if isinstance(p, str):
-        return dict(FILLS[check_fill(p)])
-    if isinstance(p, dict):
-        missing = [k for k in PRESET_KEYS if k not in p]
-        if missing:
-            raise C.BadValue("fill preset", p, f"a dict with the keys {', '.join(PRESET_KEYS)} (missing {', '.join(missing)})")
-        return p
-    raise C.BadValue("fill preset", p, "a ModuleParams, the name of a preset (" + ", ".join(sorted(FILLS)) + ") or a preset dict")
-
-
-def fill_engines(p, damping, friction=True, timestep_safety=FILL_TIMESTEP_SAFETY):
-    """yadeflex.engines() for grains of preset p (fill_preset: ModuleParams, preset name or dict)
-    settling at the filling's step (timestep_safety): with p's rolling resistance, or (friction
-    False) with none."""
-    p = fill_preset(p)
-    rf = p["rolling_friction"] if friction else 0.0
-    return engines(damping=damping, timestep_safety=timestep_safety, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf)
 
 
 def _floor_grains(radius, r_floor, mat):
@@ -192,7 +116,7 @@ def settle_grains(p, H, r_in, rnd, centers=((0.0, 0.0),), damping=ModuleParams.s
     called as progress(stage, steps, kinetic energy [J], its tolerance [J]) while settling (steps
     0: a stage starts). Returns (wall id, grain ids, the kinetic-energy tolerance used, the
     container's facet ids)."""
-    from .deposition import CylinderRegion, GrainSizes, place_grains, settle_deposit, trim_grains
+    from ..deposition import CylinderRegion, GrainSizes, place_grains, settle_deposit, trim_grains
     p = fill_preset(p)
     gmat = _grain_material(p)
     from yade import utils
@@ -228,10 +152,10 @@ def build_filled(params, progress=None):
     r_lin, r_in = fill_radii(params)
     wall, grains, ke_tol = settle_fill(params, r_in, rnd, progress)
     # --- stage 2: the structure around the fill
-    from .wire import TECCO_WIRE_YOUNG, tecco_wire
+    from ..wire import TECCO_WIRE_YOUNG, tecco_wire
     wire = tecco_wire(seed=params.seed, young=params.steel_contact_young, element_young=TECCO_WIRE_YOUNG)
     O.materials.append(wire)
-    from .materials import STEEL_YOUNG, steel
+    from ..materials import STEEL_YOUNG, steel
     ring_mat = steel(label="ring_steel", friction_deg=30.0, young=params.steel_contact_young, element_young=STEEL_YOUNG)
     # contact modulus 3e9 Pa: kn = E r = 3e6 N/m for the 1 mm half thickness, so that the
     # lining pressed by grains against the wires and rings stays out of them (at 1e9 three modules
@@ -255,8 +179,8 @@ def build_filled(params, progress=None):
                         base_nodes=sorted(set(mesh["edges"]["bottom"]) | set(lin["bottom"] if lin else [])), mesh_params=mesh["params"]))
     rope = dict(nodes=[], cylinders=[])
     if params.with_rope():
-        from .materials import ROPE_6X7_YOUNG, rope_6x7_8mm
-        from .rope import rope_around
+        from ..materials import ROPE_6X7_YOUNG, rope_6x7_8mm
+        from ..rope import rope_around
         rn, rc = rope_around(params.centers(), 0.5 * params.diameter + TECCO_WIRE_RADIUS, 0.5 * H, rope_6x7_8mm(young=params.steel_contact_young, element_young=ROPE_6X7_YOUNG))
         rope = dict(nodes=rn, cylinders=rc)
     O.engines = params.engines(params.settle_damping, FILL_TIMESTEP_SAFETY, crushing=False)

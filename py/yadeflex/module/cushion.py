@@ -15,8 +15,8 @@ All three rest on Hertz's elastic impact, peak force ~ (mass x height)^(3/5):
 """
 import math
 
-from . import checks as C
-from .constants import G
+from .. import checks as C
+from ..constants import G
 
 
 

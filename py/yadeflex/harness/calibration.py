@@ -10,7 +10,7 @@ does in bulk, to compare with documented values of the real material.
   constrained modulus M = d(sigma_v)/d(epsilon) over stress ranges, the earth-pressure ratio
   K0 = d(sigma_h)/d(sigma_v), and the isotropic elastic moduli these give (lambda = K0 M,
   nu = K0 / (1 + K0), E = M (1 + nu)(1 - 2 nu) / (1 - nu)), among them the Lame constant and
-  the plate-load modulus of the cushion formulas (yadeflex.cushion).
+  the plate-load modulus of the cushion formulas (yadeflex.module.cushion).
 - plate_load_test: the plate-load modulus M_E of the cushion formulas, measured as they define
   it: a rigid circular plate pressed into the surface of a fill layer filled as the module's
   fill is, M_E = D dp/ds (D the plate's diameter, p its mean pressure, s its settlement).
@@ -26,10 +26,10 @@ from yade import O
 from yade.minieigenHP import Vector3
 from yade.wrapper import FrictMat, Sphere
 
-from . import checks as C
-from .scene import step_until
-from .constants import G
-from .module import FILLS, LIMITS, UNBALANCED_TOL, check_fill, settle_grains, fill_engines, _settle
+from .. import checks as C
+from ..scene import step_until
+from ..constants import G
+from ..module import FILLS, LIMITS, UNBALANCED_TOL, check_fill, settle_grains, fill_engines, _settle
 
 # the heap's flank: the part of the surface profile between these fractions of its height
 # (the crest is rounded by the last grains to stop, the toe by the grains that rolled out)

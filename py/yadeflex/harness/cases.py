@@ -7,10 +7,10 @@ import math
 from yade import O
 from yade.minieigenHP import Vector3
 
-from . import checks as C
-from .constants import G
+from .. import checks as C
+from ..constants import G
 from . import scenes as S
-from .materials import steel
+from ..materials import steel
 
 
 
@@ -19,7 +19,7 @@ def _circle_I(r):
 
 
 def cantilever_deflection(load="tip", segments=10, length=1.0, radius=0.01, force=1.0, rel_tol=1e-7):
-    """Steel cantilever (yadeflex.scenes.cantilever) settled under a tip load force [N] ('tip'),
+    """Steel cantilever (yadeflex.harness.scenes.cantilever) settled under a tip load force [N] ('tip'),
     its own weight ('self') or an axial tip force ('axial'). Returns dict(measured: the tip's
     deflection (-z) or elongation (x) [m], reference: Euler-Bernoulli P L^3 / 3EI, q L^4 / 8EI or
     the bar's P L / EA [m], axial_force of the first element [N] for 'axial')."""
@@ -70,8 +70,8 @@ def sphere_wire_impact(friction_deg=0.0, velocity=(0, 0, -3.0), duration=0.03):
     """A steel sphere (R = 30 mm) hitting a clamped steel wire (r = 3 mm, 1 m in 20 segments),
     no numerical damping, energy tracked. Returns dict(e0: the sphere's kinetic energy [J],
     worst: the largest |total energy - e0| over the run [J], touched)."""
-    from .builders import chain
-    from .scene import engines, contacts_on
+    from ..builders import chain
+    from ..scene import engines, contacts_on
     O.reset()
     mat = steel(friction_deg=friction_deg)
     chain([(-0.5, 0, 0), (0.5, 0, 0)], 0.003, mat, segments=20, fixed=[0, 20])
@@ -90,7 +90,7 @@ def sphere_wire_impact(friction_deg=0.0, velocity=(0, 0, -3.0), duration=0.03):
 
 
 def pretensioned_square(n=16):
-    """Square membrane (yadeflex.membrane_scenes.pretensioned_square), 1 N at its centre,
+    """Square membrane (yadeflex.harness.membrane_scenes.pretensioned_square), 1 N at its centre,
     settled; the deflection at three nodes a quarter side from the load against the double sine
     series of linear membrane theory. Returns dict(measured: the worst relative error, reference 0)."""
     from . import membrane_scenes as MS
@@ -107,7 +107,7 @@ def pretensioned_square(n=16):
 
 def circular_membrane(rings=12, pressure=100.0, radius=0.5, stiffness=20e3, poisson=0.3):
     """Clamped circular membrane under uniform pressure [Pa], settled: its centre deflection [m]
-    against Foppl-Hencky (yadeflex.membrane_scenes.foppl_hencky_centre_deflection)."""
+    against Foppl-Hencky (yadeflex.harness.membrane_scenes.foppl_hencky_centre_deflection)."""
     from . import membrane_scenes as MS
     ref = MS.foppl_hencky_centre_deflection(pressure, radius, stiffness, poisson)
     sc = MS.circular_membrane(rings=rings, radius=radius, pressure=pressure, stiffness=stiffness, poisson=poisson)
@@ -118,7 +118,7 @@ def circular_membrane(rings=12, pressure=100.0, radius=0.5, stiffness=20e3, pois
 def free_fall(height=1.0, radius=0.05):
     """A sphere released from rest under gravity, no contact: its speed when it has fallen
     height [m] (interpolated within the step that crosses it) against sqrt(2 g h)."""
-    from .scene import engines
+    from ..scene import engines
     C.positive("height", height, "m")
     O.reset()
     s = S.sphere((0, 0, 0), radius)
@@ -139,7 +139,7 @@ def sphere_bounce(radius=0.05, density=2500.0, young=1e8, speed=1.0, timestep_sa
     spring, pi sqrt(m / kn), kn = E R (two equal spheres, YADE's Ip2_FrictMat_FrictMat_FrictPhys),
     and the rebound speed against the impact speed (elastic: restitution 1). timestep_safety:
     the fraction of the critical step (the default resolves the contact in ~90 steps)."""
-    from .scene import engines
+    from ..scene import engines
     O.reset()
     a = S.sphere((0, 0, 0), radius, density=density, young=young, friction_deg=0.0)
     b = S.sphere((0, 0, 2 * radius + 1e-6), radius, density=density, young=young, friction_deg=0.0, velocity=(0, 0, -speed))
@@ -168,8 +168,8 @@ def crushing_bounce(small=0.02, large=0.04, density=2500.0, young=1e8, speed=2.0
     is P / sqrt(m kn) (elastic-perfectly-plastic restitution) and the rest of the impact energy is
     booked as 'flexCrushing'. Returns the rebound speed (measured, reference), the largest normal
     force over P and the crushing energy over the kinetic energy lost."""
-    from .crushing import failure_load
-    from .scene import engines, step_until
+    from ..crushing import failure_load
+    from ..scene import engines, step_until
     O.reset()
     a = S.sphere((0, 0, 0), large, density=density, young=young, friction_deg=0.0)
     b = S.sphere((0, 0, large + small + 1e-4), small, density=density, young=young, friction_deg=0.0, velocity=(0, 0, -speed))

@@ -1,57 +1,28 @@
-"""The damping module's parameters: ModuleParams (each option declared once, yadeflex.params),
-the fill presets, and the geometry the cache key needs (the lining's and the grains' radii)."""
+"""The damping module's parameters: ModuleParams (each option declared once, yadeflex.params;
+the fill presets are yadeflex.grains'), and the geometry the cache key needs (the lining's and
+the grains' radii)."""
 import dataclasses
 import hashlib
 import json
 import math
 
 
-from .constants import G
-from . import checks as C
-from .materials import FRICTION_DEG
-from .mesh import TECCO_G65_DX, TECCO_G65_DY
-from .params import param, declared, IMPACT, FILL
-from .scene import engines, CRUSHING_IS50, DAMPING, ROLLING_FRICTION, TIMESTEP_SAFETY as SCENE_TIMESTEP_SAFETY
+from ..constants import G
+from .. import checks as C
+from ..materials import FRICTION_DEG
+from ..mesh import TECCO_G65_DX, TECCO_G65_DY
+from ..params import param, declared, IMPACT, FILL
+from ..scene import engines, CRUSHING_IS50, DAMPING, ROLLING_FRICTION, TIMESTEP_SAFETY as SCENE_TIMESTEP_SAFETY
+from ..grains import (FILL_TIMESTEP_SAFETY, FILLS, UNBALANCED_TOL, WITHDRAWN_FILLS, DEPOSITION_FRICTION, SETTLE_DAMPING,  # noqa: F401
+                      check_fill)
 
 
-# a fill counts as settled when its unbalanced force (YADE utils.unbalancedForce) is below this
-# as well as its kinetic energy negligible (bench/fill_equilibrium.py)
-UNBALANCED_TOL = 0.05
-# time step of the filling, x FlexTimeStepper's estimate: the fill settles under heavy local
-# damping, so it is not tied to the impact's ModuleParams.timestep_safety, and hitting one fill
-# at several steps (convergence checks) loads the same cached fill
-FILL_TIMESTEP_SAFETY = 1.0
 # largest mass scaling of the structure's nodes while it settles on the fill (_heavier_nodes)
 MAX_NODE_MASS_SCALING = 100.0
 # the grains are placed on a hexagonal close-packed lattice (spacing 2.05 grain_max: solid
 # fraction about 0.33 with the gravel's sizes) up to this x the module's height: about 1.2 x the
 # grains a dense fill of the module's height holds, the rest trimmed
 PLACED_HEIGHT = 2.4
-
-# Fill presets: grain size range [m] (the simulated size; real sand is far too fine for a
-# sphere-per-grain model and is represented by coarser grains with its bulk properties),
-# solid density [kg/m3], friction angle [deg], contact modulus [Pa], rolling friction [-]
-# (rolling resistance of angular grains on spheres, kr = ks R^2; assumed values in the range
-# used for crushed rock in DEM, not calibrated here).
-FILLS = {
-    "gravel": dict(grain_min=0.032, grain_max=0.063, density=2650.0, friction_deg=38.0, young=1e8, rolling_friction=0.1),
-    "sand": dict(grain_min=0.020, grain_max=0.030, density=2650.0, friction_deg=33.0, young=1e8, rolling_friction=0.05),
-}
-# Presets withdrawn until the model represents what they depend on: name -> why (the refusal says it)
-WITHDRAWN_FILLS = {
-    "cellular_glass": "withdrawn: foam-glass granulate absorbs an impact by crushing its porous grains, and the fill's grains are elastic "
-                      "spheres that do not crush (as such they gave a higher peak force than gravel and a rebound; grain_crushing_is50 "
-                      "stands in for crushing rock, not foam glass)",
-}
-
-
-def check_fill(fill):
-    """fill if it is a preset of FILLS, else BadValue (a withdrawn preset: with the reason)."""
-    allowed = "one of " + ", ".join(C.show(k) for k in sorted(FILLS))
-    if isinstance(fill, str) and fill in WITHDRAWN_FILLS:
-        raise C.BadValue("fill", fill, f"{allowed} ({fill} is {WITHDRAWN_FILLS[fill]})")
-    return C.choice("fill", fill, tuple(sorted(FILLS)))
-
 
 BOULDER_SHAPES = ("cube", "sphere")
 N_MODULES = (1, 3, 7)
@@ -95,7 +66,7 @@ class ModuleParams:
     grain_crushing_is50: float = param(None, unit="Pa", stage=IMPACT, default_text="none (grains do not crush)", row="fill_friction_deg",
                                        meaning="point-load index Is(50) of the grains' rock: their contacts yield at its failure load during the impact",
                                        allowed=CRUSHING_IS50)
-    fill_deposition_friction_deg: float = param(0.0, unit="deg", allowed=C.Range(0.0, 45.0, "deg", note="at most the fill's friction angle"),
+    fill_deposition_friction_deg: float = param(0.0, unit="deg", allowed=DEPOSITION_FRICTION,
                                                 meaning="grain friction while the fill is densified: 0 the densest fill, up to the fill's own angle a looser one")
     boulder_mass: float = param(800.0, unit="kg", stage=IMPACT, meaning="boulder mass", small=100.0, allowed=C.Range(
         0.0, math.inf, "kg", lo_open=True, note=f"a boulder (cube side, sphere diameter) of {BOULDER_MIN_SIZE} m to 3 x the diameter"))
@@ -111,7 +82,7 @@ class ModuleParams:
     impact_offset: tuple = param((0.0, 0.0), "pair", unit="m", stage=IMPACT, meaning="horizontal offset of the impact from the axis, within the module's radius")
     damping: float = param(0.0, unit="-", stage=IMPACT, meaning="numerical (local) damping from the boulder's first contact (the free fall is undamped)",
                            allowed=dataclasses.replace(DAMPING, note="local damping"))
-    settle_damping: float = param(0.7, unit="-", meaning="local damping while the fill settles (not part of the impact)",
+    settle_damping: float = param(SETTLE_DAMPING, unit="-", meaning="local damping while the fill settles (not part of the impact)",
                                   allowed=C.Range(0.1, 1.0, hi_open=True, note="the fill settles under heavy damping"))
     timestep_safety: float = param(1.0, unit="-", stage=IMPACT, meaning="impact time step as a fraction of the estimated critical step "
                                    "(the fill settles at its own, FILL_TIMESTEP_SAFETY)", allowed=TIMESTEP_SAFETY)
@@ -287,7 +258,7 @@ def fill_radii(params):
     its thickness (settled against r_lin itself they started the structure stage overlapping
     the lining by up to its sagitta, 1.7 mm on the default module, and pushed its 1 g nodes
     with kilonewtons at the first step)."""
-    from .mesh import TECCO_G65_DY
+    from ..mesh import TECCO_G65_DY
     R = 0.5 * params.diameter
     r_lin = min(R - params.lining_gap - 0.5 * params.lining_thickness - 0.0015,
                 R * math.cos(TECCO_G65_DY / params.diameter) - 0.5 * params.ring_bar_diameter - 0.5 * params.lining_thickness - 0.002)

@@ -2,7 +2,7 @@
 on this machine's cores (backend "local"), inside an MPI allocation ("mpi", mpi4py.futures) or
 as a Slurm job array ("slurm"). scripts/study is the command line; from Python:
 
-    from yadeflex import study
+    from yadeflex.module import study
     runs = study.read_study("configurations.csv")      # every row checked, or StudyError
     rows = study.run_study("configurations.csv", "out", backend="local", workers=2)
 
@@ -10,7 +10,7 @@ The study file: one row per run; the columns are the main job's option names (dr
 drop-height; `damping_module.py --help` lists them), an empty cell leaves the job's default,
 small and no_vtk take yes/no, impact_offset takes "x y". Besides the options: name (the run's
 folder name; default row001, ...) and repeat (N runs of the row, with seeds seed, seed+1, ...,
-named NAME-sSEED). The whole file is checked with the job's own checks (yadeflex.module_cli)
+named NAME-sSEED). The whole file is checked with the job's own checks (yadeflex.module.cli)
 before anything runs: StudyError lists every bad cell by its row and column.
 
 Every run is one YADE process with one thread (bitwise reproducible: the same row gives the same
@@ -21,7 +21,7 @@ every run loads its fill (a run that built its own fill would differ by round-of
 loads it); a run whose fill failed is recorded as failed without running. A run that
 fails, crashes or times out is recorded with its status and log, the others go on; resume reruns
 only the rows not done. The results gather into OUT_DIR/results.csv (RESULT_COLUMNS) and plots
-(yadeflex.study_plots).
+(yadeflex.module.study_plots).
 """
 import concurrent.futures
 import csv
@@ -35,10 +35,10 @@ import sys
 import threading
 import time
 
-from .files import write_atomic, write_json
+from ..files import write_atomic, write_json
 from .study_task import read_json, TERM_GRACE, die_with_parent
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # (py/yadeflex/module/ in the checkout)
 RUN_SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
 TASK_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "study_task.py")
 YADE_PY = "/usr/lib/x86_64-linux-gnu/yade-double/py"  # Debian's YADE modules (for the runs' PYTHONPATH)
@@ -79,8 +79,8 @@ def column_option(column):
 def job_options():
     """Names of the main job's options a study file may set."""
     import dataclasses
-    from .module import ModuleParams
-    from .module_cli import RUN_LIMITS
+    from ..module import ModuleParams
+    from .cli import RUN_LIMITS
     return set(FLAGS) | set(RUN_LIMITS) | {f.name for f in dataclasses.fields(ModuleParams)}
 
 
@@ -90,7 +90,7 @@ def _where(row, line, column=None):
 
 def _row_argv(cells, row, line, errors):
     """The job's arguments of one row's cells {option: text} (empty cells left out)."""
-    from . import checks as C
+    from .. import checks as C
     argv, given = [], {}
     for opt, text in cells.items():
         text = (text or "").strip()
@@ -124,7 +124,7 @@ def read_study(path, out_dir=None):
     (1-based data row), line (in the file), inputs ({column: cell text}, and seed for a repeated
     row), argv (the job's options) and fill_key. Raises StudyError listing every problem, each
     naming its row and column."""
-    from .module_cli import parse, OptionError
+    from .cli import parse, OptionError
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:  # (a spreadsheet's byte-order mark is not a column name)
             table = [r for r in csv.reader(fh) if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
@@ -169,7 +169,7 @@ def read_study(path, out_dir=None):
             run_name = name
             if repeat > 1:
                 if seed0 is None:
-                    from .module import ModuleParams
+                    from ..module import ModuleParams
                     try:
                         seed0 = int(cells.get("seed") or ModuleParams.seed)
                     except ValueError:
@@ -211,7 +211,7 @@ def run_folder(out_dir, name):
 
 
 def run_tasks(runs, out_dir, cache_dir, timeout=None, yade="yade-double", fills=()):
-    """The study_task tasks of runs (see yadeflex/study_task.py); a run whose module is among
+    """The study_task tasks of runs (see yadeflex/module/study_task.py); a run whose module is among
     the fill tasks `fills` starts only if that fill succeeded."""
     after = {t["key"]: t["status"] for t in fills}
     tasks = []
@@ -225,8 +225,8 @@ def run_tasks(runs, out_dir, cache_dir, timeout=None, yade="yade-double", fills=
 
 def fill_tasks(runs, out_dir, cache_dir, yade="yade-double"):
     """A task per distinct filled module of runs that the cache does not hold yet."""
-    from .module_cli import parse
-    from .module import cache_files
+    from .cli import parse
+    from ..module import cache_files
     tasks, seen = [], set()
     for r in runs:
         key = r["fill_key"]

@@ -38,12 +38,16 @@ import time
 from yade import O
 from yade.wrapper import PyRunner, FlexGuard
 
-from . import scenes, membrane_scenes, tensile
-from . import membrane as M
-from .errors import Unstable
-from .runner import RunSettings, unstable_body
-from .materials import steel
-from .module import ModuleParams, filled_module, add_boulder, scale_lining_nodes
+from . import scenes
+
+from . import membrane_scenes
+
+from . import tensile
+from .. import membrane as M
+from ..errors import Unstable
+from ..runner import RunSettings, unstable_body
+from ..materials import steel
+from ..module import ModuleParams, filled_module, add_boulder, scale_lining_nodes
 
 CHECK = 10          # steps between energy checks
 SCAN = 200          # steps between scans of every body for non-finite values and the largest speed

@@ -18,13 +18,13 @@ import traceback
 from yade import O
 from yade.minieigenHP import Vector3
 
-from . import runner as R
-from .runner import EXIT, RunSettings
-from .files import write_json
+from .. import runner as R
+from ..runner import EXIT, RunSettings
+from ..files import write_json
 from .impact_plots import write_plots
-from .constants import G
-from .module import filled_module, add_boulder, fill_top, scale_lining_nodes, UNBALANCED_TOL
-from .module_ids import BROKEN_KINDS, ModuleIds
+from ..constants import G
+from ..module import filled_module, add_boulder, fill_top, scale_lining_nodes, UNBALANCED_TOL
+from .ids import BROKEN_KINDS, ModuleIds
 
 PROG = "damping_module"  # the main job: its name starts the lines it writes to stderr
 RESULT_FILES = ("params.json", "timeseries.csv", "energy.csv", "summary.json", "impact.png", "energy.png")
@@ -35,7 +35,7 @@ TIMESERIES_UNITS = dict(t="s", boulder_z="m", boulder_vz="m/s", boulder_az="m/s2
                         broken_ring_segments="-", broken_rope_segments="-", broken_lining_facets="-", dt="s")
 class BrokenElements:
     """Counts of ruptured elements by kind (FlexElementEngine.rupturedIds: every element it
-    erased, of any kind): the BROKEN_KINDS keys (yadeflex.module_ids), broken_other_elements (an
+    erased, of any kind): the BROKEN_KINDS keys (yadeflex.module.ids), broken_other_elements (an
     element of none of those kinds) and broken_elements_total, their sum."""
 
     def __init__(self, ids):

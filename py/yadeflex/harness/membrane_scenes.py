@@ -8,12 +8,12 @@ import math
 from yade import O
 from yade.minieigenHP import Vector3
 
-from . import checks as C
-from . import membrane as M
-from .constants import G
-from .builders import fix, _positive, _section
-from .materials import FRICTION_DEG, _density
-from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args
+from .. import checks as C
+from .. import membrane as M
+from ..constants import G
+from ..builders import fix, _positive, _section
+from ..materials import FRICTION_DEG, _density
+from ..scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args
 from .scenes import sphere
 
 

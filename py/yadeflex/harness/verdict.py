@@ -7,7 +7,7 @@ open gap (a model still missing) keeps its FAIL and says so in `open`."""
 import math
 from dataclasses import dataclass, field, asdict
 
-from . import checks as C
+from .. import checks as C
 
 KINDS = ("relative", "absolute", "band")
 

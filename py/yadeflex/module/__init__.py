@@ -1,9 +1,11 @@
 """The damping module: a chain-link mesh cylinder with steel rings, a geotextile lining and a
 granular fill on a rigid slab, hit by a boulder. One builder with declared parameters, used
-by the main job (scripts/damping_module.py), the tests and parametric studies. By concept:
-module_params (ModuleParams, the presets), fill (stages 1-2), fill_cache (the cache of filled
-modules), boulder (stage 3), module_ids (ModuleIds: the bodies of a filled module); this module
-gathers their names.
+by the main job (scripts/damping_module.py), the tests and parametric studies; built from the
+library (yadeflex: builders, grains and deposition, the runner). By concept: params (ModuleParams),
+fill (stages 1-2), fill_cache (the cache of filled modules), boulder (stage 3), ids (ModuleIds:
+the bodies of a filled module), impact (the main job's run), cli (its command line), study,
+study_task, study_plots (parametric studies), cushion (the design formulas); this package
+gathers the names of the first five.
 
 Stages
   1. fill: grains placed on a close-packed lattice in a rigid, frictionless cylindrical
@@ -29,17 +31,18 @@ angularity of gravel is represented by its friction angle and a rolling resistan
 rigid clump of overlapping spheres with the mass and inertia of the solid cube (its edges are
 rounded by the member radius).
 """
-from .module_params import (  # noqa: F401
+from .params import (  # noqa: F401
     UNBALANCED_TOL, FILL_TIMESTEP_SAFETY, MAX_NODE_MASS_SCALING, PLACED_HEIGHT, FILLS, WITHDRAWN_FILLS,
     check_fill, BOULDER_SHAPES, N_MODULES, MAX_IMPACT_SPEED, BOULDER_MIN_SIZE, TIMESTEP_SAFETY,
     ModuleParams, PARAMS, LIMITS, SMALL, lining_cells_around, fill_radii)
+from ..grains import _grain_material, _sphere_body, fill_engines, fill_preset  # noqa: F401
+from ..mass_scaling import _heavier_nodes, _restore_nodes  # noqa: F401
 from .fill import (  # noqa: F401
-    _grain_material, _sphere_body, _placement, _container, _settle, _relayout,
-    _heavier_nodes, _restore_nodes, settle_fill, fill_engines, _floor_grains, settle_grains,
+    _placement, _container, _settle, _relayout, settle_fill, _floor_grains, settle_grains,
     build_filled, fill_contacts, fill_top)
 from .fill_cache import (  # noqa: F401
     CACHE_FORMAT, cache_files, save_compressed, check_written, check_saved, _sha256,
     cache_problem, _remove_stale_temps, filled_module)
-from .boulder import (  # noqa: F401
-    add_boulder, touches, scale_lining_nodes, impact_start)
-from .module_ids import ModuleIds, ModuleStructureIds  # noqa: F401
+from ..boulder import touches  # noqa: F401
+from .boulder import add_boulder, scale_lining_nodes, impact_start  # noqa: F401
+from .ids import ModuleIds, ModuleStructureIds  # noqa: F401

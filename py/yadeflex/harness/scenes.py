@@ -9,11 +9,11 @@ from yade import O
 from yade.minieigenHP import Vector3, Quaternion
 from yade.wrapper import Body, Sphere, FrictMat, FlexCylinder
 
-from . import builders as B
-from . import checks as C
-from .constants import G
-from .materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO, _density
-from .scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args, step_until
+from .. import builders as B
+from .. import checks as C
+from ..constants import G
+from ..materials import steel, flex_material, MODULUS, DENSITY, FRICTION_DEG, CONTACT_RATIO, _density
+from ..scene import DEFAULT_TIMESTEP_SAFETY, engines, engine_args, step_until
 
 
 def sphere(center, radius, density=2500.0, young=1e8, friction_deg=30.0, contact_ratio=0.25, velocity=(0, 0, 0)):
@@ -216,9 +216,9 @@ def mesh_punch(size=1.0, boulder_mass=100.0, boulder_radius=0.2, velocity=(0, 0,
     the edge nodes joined in order by a 6x7 8 mm steel rope (yadeflex.rope_6x7_8mm) held at the
     panel's four corners. timestep_safety: the engines' (None: their default); wire: the mesh's
     wire material (None: tecco_wire())."""
-    from .materials import rope_6x7_8mm
-    from .mesh import chain_link_panel, panel_counts
-    from .wire import tecco_wire
+    from ..materials import rope_6x7_8mm
+    from ..mesh import chain_link_panel, panel_counts
+    from ..wire import tecco_wire
     panel_counts(B._positive("size", size), size)  # (the panel's own checks, before O is reset)
     for name, v, rng in (("boulder_mass", boulder_mass, C.Range(0.0, unit="kg", lo_open=True)),
                          ("boulder_radius", boulder_radius, C.Range(0.0, unit="m", lo_open=True)),
@@ -330,7 +330,7 @@ def _free_structure(structure, cells, spacing, contact_young, friction_deg, orig
     """A free square structure of cells x cells cells of spacing [m] with its corner node at origin:
     'net' (yadeflex.net, steel nodes, wire radius 3 mm, element modulus 2e11 Pa) or 'sheet'
     (yadeflex.sheet of geotextile, 2 mm thick, crossed diagonals). Returns (nodes, elements)."""
-    from . import membrane as M
+    from .. import membrane as M
     if structure == "net":
         mat = steel(young=contact_young, element_young=2e11, friction_deg=friction_deg)
         grid, elements = B.net(cells + 1, spacing, 0.003, mat, origin=origin, fix_border=False)

@@ -6,16 +6,16 @@ the job prints before it exits with status 1:
 
     bad option --record-every: got nan; allowed [1e-06, 0.001] s (...)
 
-run_settings(options) gives the run options as yadeflex.impact.run_impact takes them.
+run_settings(options) gives the run options as yadeflex.module.impact.run_impact takes them.
 """
 import argparse
 import dataclasses
 import os
 
-from . import checks as C
-from .runner import ImpactTimes, RunSettings, EXIT
-from . import params as P
-from .module import ModuleParams, FILLS, PARAMS
+from .. import checks as C
+from ..runner import ImpactTimes, RunSettings, EXIT
+from .. import params as P
+from ..module import ModuleParams, FILLS, PARAMS
 
 DEFAULT_RUN = ImpactTimes.MAX_AFTER_CONTACT  # [s] longest impact run without --duration (else until the rebound + a margin)
 EXIT_CODES = ((EXIT["done"], "done"),
@@ -134,7 +134,7 @@ def _checked(option, check, *args):
 
 
 def run_settings(a):
-    """The run options of parsed options `a` as yadeflex.impact.run_impact's keyword arguments
+    """The run options of parsed options `a` as yadeflex.module.impact.run_impact's keyword arguments
     (RunSettings' fields)."""
     return {f.name: getattr(a, f.name) for f in dataclasses.fields(RunSettings)}
 

@@ -1,12 +1,12 @@
-"""One task of a parametric study (yadeflex.study): one YADE process, its log, its outcome.
+"""One task of a parametric study (yadeflex.module.study): one YADE process, its log, its outcome.
 
 The file needs only the standard library, and runs as a script, so that every backend's worker
 (a local thread, an MPI rank, a Slurm array task) starts a task the same way without starting
 YADE itself:
 
-    /usr/bin/python3 py/yadeflex/study_task.py TASKS.json INDEX
+    /usr/bin/python3 py/yadeflex/module/study_task.py TASKS.json INDEX
 
-TASKS.json (written by yadeflex.study) holds a list of tasks, each a dict:
+TASKS.json (written by yadeflex.module.study) holds a list of tasks, each a dict:
     name       the run's name
     cmd        the YADE command line (list of words)
     folder     the folder the process writes into (created); its log goes to folder/log.txt

@@ -11,6 +11,8 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
+from ..parts import PART, register_structure_tag
+
 # key -> (part of the VTK series and the 3D view (yadeflex.parts.PARTS), name of one such body in
 # messages or None, summary key of such a broken element or None). A body under two keys takes
 # the first key's name and part.
@@ -171,3 +173,14 @@ class ModuleIds(_ReadsAsDict):
     def broken_kinds(self):
         """dict element id -> summary key of such a broken element ('broken_wire_legs', ...)."""
         return self._by_body(3)
+
+
+def module_parts(ids):
+    """dict body id -> part id (yadeflex.parts) from the module's ids (a ModuleIds or its stored
+    dictionary): every module's mesh, rings and lining, and the scene's grains, slab and rope; a
+    ring's nodes are mesh nodes."""
+    return {i: PART[name] for i, name in ModuleIds.of(ids).parts().items()}
+
+
+# the parts of a scene with a damping module (yadeflex.parts.scene_parts): its ids in O.tags
+register_structure_tag("yadeflex_module", lambda text: ModuleIds.from_json(text).parts())

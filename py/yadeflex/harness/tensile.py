@@ -8,9 +8,9 @@ import math
 from yade import O
 from yade.minieigenHP import Vector3
 
-from . import builders as B
-from . import checks as C
-from .scene import engines, engine_args, step_until
+from .. import builders as B
+from .. import checks as C
+from ..scene import engines, engine_args, step_until
 from .scenes import _check_chain
 
 
@@ -98,8 +98,8 @@ def mesh_panel_scene(width=1.0, height=1.0, direction="longitudinal", speed=0.5,
     local damping (quasi-static); clamp: 'pinned' (edge knots held in translation, free to turn,
     as wires wrapped around a clamping bar) or 'fixed'; knots: the panel's knot model
     (yadeflex.mesh.chain_link_panel). Returns dict(held, driven, axis, length, loaded_width, ...)."""
-    from .mesh import chain_link_panel, panel_counts
-    from .wire import tecco_wire
+    from ..mesh import chain_link_panel, panel_counts
+    from ..wire import tecco_wire
     C.choice("direction", direction, ("longitudinal", "transverse"))
     C.choice("clamp", clamp, ("pinned", "fixed"))
     B._positive("speed", speed)
@@ -178,7 +178,7 @@ def tecco_panel_test(direction="longitudinal", width=1.0, speed=1.0, seed=12345,
     (mesh_tensile_test); knots: the knot model (yadeflex.mesh.chain_link_panel).
     Returns (scene, result, wall seconds)."""
     import time
-    from .wire import tecco_wire
+    from ..wire import tecco_wire
     t = time.time()
     mat = tecco_wire(seed=seed, slack_scale=slack_scale)
     w, h = (width, 1.0) if direction == "longitudinal" else (1.0, width)  # loaded width across the pull
@@ -243,7 +243,7 @@ def ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48, rel_deflect
     hoop (extensional) deformation multiplies pi/4 by K1 = 1 - alpha and 2/pi by K2^2 = (1 -
     alpha)^2, alpha = I/(A R^2); our beam has no shear deformation (beta = 0). P is chosen so
     that delta = rel_deflection x R (linear range). Returns dict(delta, theory, theory_thin, P)."""
-    from .materials import steel
+    from ..materials import steel
     from .scenes import settle
     _check_ring(segments, ring_radius, bar_radius, material)
     C.positive("rel_deflection", rel_deflection, hi=0.01)
@@ -273,7 +273,7 @@ def ring_point_loads(ring_radius=0.3, bar_radius=0.005, segments=48, rel_deflect
 def rope_tensile_test(length=1.0, segments=1, damping=0.0, steps_per_unit_strain=2e5, material=None):
     """6x7 FC rope (yadeflex.rope_6x7_8mm) pulled to rupture. Returns dict(strain, force, EA
     (secant at 20% of the breaking force), rupture_force (largest force carried), ...)."""
-    from .materials import rope_6x7_8mm
+    from ..materials import rope_6x7_8mm
     C.number("steps_per_unit_strain", steps_per_unit_strain, C.Range(1.0, 1e8))
     mat = material if material is not None else rope_6x7_8mm()
     s = single_wire(mat, length=length, radius=0.004, segments=segments, damping=damping)
@@ -291,7 +291,7 @@ def ring_pull(ring_radius=0.3, bar_radius=0.005, segments=48, stretch=0.3, speed
     held, the top node driven along the load line at speed [m/s] (local damping: quasi-static)
     until the diameter grew by stretch x ring_radius. Returns dict(deflection [m], force [N],
     linear_stiffness [N/m] of thin-ring theory, params)."""
-    from .materials import steel
+    from ..materials import steel
     _check_ring(segments, ring_radius, bar_radius, material)
     C.positive("stretch", stretch, hi=2.0)
     B._positive("speed", speed)

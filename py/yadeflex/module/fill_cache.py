@@ -9,7 +9,7 @@ import tempfile
 from yade import O
 
 from .fill import build_filled
-from .module_ids import ModuleIds
+from .ids import ModuleIds
 
 
 CACHE_FORMAT = "yadeflex filled module"
@@ -136,7 +136,7 @@ def filled_module(params, cache_dir=None, progress=None):
     cache_dir = cache_dir or os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules")
     f, meta_file, lock = cache_files(params, cache_dir)
     key = params.fill_key()
-    from .files import locked, write_json
+    from ..files import locked, write_json
     try:
         os.makedirs(cache_dir, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=cache_dir, prefix=f".{os.path.basename(f)}.", suffix=".yade.gz")  # where a fill is saved

@@ -1,4 +1,4 @@
-"""The plots of a parametric study (yadeflex.study), from the rows of its results.csv, for
+"""The plots of a parametric study (yadeflex.module.study), from the rows of its results.csv, for
 comparing designs:
 
 - response.png: peak impact force and penetration against the impact energy, a line per
