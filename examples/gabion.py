@@ -37,12 +37,12 @@ for name, origin, axis, angle, width in (("front", (0, -gap, 0), (1, 0, 0), 90, 
     with yf.placed(origin, axis, angle):  # a side: the panel's x along the box's edge, its y up
         sides[name] = yf.chain_link_panel(width, a.size[2], wire)
 H = sides["front"]["params"]["height"]
-lacing = []
+lacing = []  # (each node to the nearest across: at most half a cell, 72 mm, along the edge and the gaps across; 0.15 m refuses a misplaced panel)
 for name, edge in (("front", "bottom"), ("back", "top"), ("left", "left"), ("right", "right")):
-    lacing += yf.lace(sides[name]["edges"]["bottom"], base["edges"][edge], wire, max_gap=0.1)
+    lacing += yf.lace(sides[name]["edges"]["bottom"], base["edges"][edge], wire, max_gap=0.15)
 for (s1, e1), (s2, e2) in ((("front", "left"), ("left", "left")), (("front", "right"), ("right", "left")),
                            (("back", "left"), ("left", "right")), (("back", "right"), ("right", "right"))):  # the four corners
-    lacing += yf.lace(sides[s1]["edges"][e1], sides[s2]["edges"][e2], wire, max_gap=0.1)
+    lacing += yf.lace(sides[s1]["edges"][e1], sides[s2]["edges"][e2], wire, max_gap=0.15)
 ground_mat = FrictMat(young=3e10, poisson=0.25, density=2650, label="ground")  # concrete ground (E 30 GPa)
 O.materials.append(ground_mat)
 ground = O.bodies.append(utils.wall(-0.01, axis=2, sense=1, material=ground_mat))
@@ -57,7 +57,7 @@ print(f"{len(fill.grains)} stones, solid fraction {fill.solid_fraction:.2f}")
 with yf.placed((0, 0, H + gap)):
     lid = yf.chain_link_panel(L, W, wire)
 for edge, name, side_edge in (("bottom", "front", "top"), ("top", "back", "top"), ("left", "left", "top"), ("right", "right", "top")):
-    lacing += yf.lace(lid["edges"][edge], sides[name]["edges"][side_edge], wire, max_gap=0.1)
+    lacing += yf.lace(lid["edges"][edge], sides[name]["edges"][side_edge], wire, max_gap=0.15)
 O.engines = []
 steps = yf.settle(damping=0.4, node_mass_scaling=100.0)
 print(f"gabion settled on the ground in {steps} steps")
