@@ -95,3 +95,20 @@ def test_cushion_of_three_modules(scene, tmp_path, module_cache):
     s = summary(tmp_path / "out")
     assert code == 0 and s["status"] == "done" and s["n_modules"] == 3, s
     assert s["rope_force_max"] > 0 and s["energy_residual_max_fraction"] < 0.02
+
+
+def test_the_docs_example_runs_as_written(scene, tmp_path):
+    """docs/structures.md's first Python block, run as written (its results folder here): a
+    filled bag hit by a block; no grain leaves the bag, the energy closes."""
+    text = open(os.path.join(REPO, "docs", "structures.md")).read()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    assert '"out/mine"' in code
+    g = {}
+    exec(compile(code.replace('"out/mine"', repr(str(tmp_path / "mine"))), "docs/structures.md", "exec"), g)
+    s = g["s"]
+    assert s["status"] == "done" and s["exit_status"] == 0, s
+    assert s["energy_residual_max_fraction"] < 0.01 and s["reaction_ground_max"] > 0
+    nodes = [O.bodies[n].state.pos for n in g["bag"]["nodes"] if n >= 0]
+    for i in g["fill"].grains:
+        p = O.bodies[i].state.pos
+        assert all(min(q[k] for q in nodes) < p[k] < max(q[k] for q in nodes) for k in range(3)), (i, p)
