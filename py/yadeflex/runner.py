@@ -24,7 +24,7 @@ from yade.minieigenHP import Vector3
 from . import checks as C
 from .files import CsvStream, ResultsFolder, overwrite_json, write_failure, write_json
 from .output import VtkRecorder
-from .params import param, RUN
+from .params import declared, param, RUN
 from .scene import contact_law, step_until
 from .errors import Unstable
 from .signals import Interrupted, Signals
@@ -159,12 +159,10 @@ class RunSettings:
                                 allowed=C.Range(0.0, 1.0, lo_open=True))
 
     def __post_init__(self):
-        if self.duration is not None:
-            self.duration = C.number("duration", self.duration, C.Range(0.0, 2.0, "s", lo_open=True))
-        self.record_every = C.number("record_every", self.record_every, C.Range(1e-6, 1e-3, "s"))
-        self.vtk_every = C.number("vtk_every", self.vtk_every, C.Range(1e-3, 2.0, "s"))
-        self.min_dt_fraction = C.number("min_dt_fraction", self.min_dt_fraction, C.Range(0.0, 1.0, hi_open=True))
-        self.max_residual = C.number("max_residual", self.max_residual, C.Range(0.0, 1.0, lo_open=True))
+        # each number against its declared range (the ones the command line checks)
+        for name, (_, p) in declared(RunSettings).items():
+            if p.kind == "number" and getattr(self, name) is not None:
+                setattr(self, name, C.number(name, getattr(self, name), p.allowed))
 
 
 def engine(label):

@@ -121,6 +121,8 @@ def test_inputs_are_refused_with_their_reasons(scene, tmp_path):
         yf.name_parts({"net": [len(O.bodies) + 5]})
     with pytest.raises(TypeError, match="Boulder"):
         yf.boulder_impact(str(tmp_path / "x"), "boulder")
+    with pytest.raises(C.BadValue, match="record_every"):  # (a run setting out of its declared range)
+        yf.boulder_impact(str(tmp_path / "x"), yf.Boulder(mass=1.0, above=(0, 0), speed=1.0), record_every=0.5)
     # found while the run prepares: the run fails, its summary names the problem
     s = yf.boulder_impact(str(tmp_path / "free"), yf.Boulder(mass=1.0, above=(0, 0), speed=1.0), reactions={"net": cyls}, no_vtk=True, progress=False)
     assert s["status"] == "failed" and s["exit_status"] == 1 and "none of its" in s["message"] and "supported" in s["message"], s
