@@ -22,6 +22,7 @@ from yade import O
 from yade.minieigenHP import Vector3
 
 from . import checks as C
+from .force_filter import CUTOFF_HZ, describe, low_pass
 from .files import CsvStream, ResultsFolder, overwrite_json, write_failure, write_json
 from .output import VtkRecorder
 from .params import declared, param, RUN
@@ -182,6 +183,10 @@ class ImpactRun:
     dt), scene_results() (its numbers in the summary), plots(), summary_line()."""
     PROG = "impact"  # the name that starts the lines written to stderr
     RELEASE = None  # [s] ImpactTimes' release: end once the boulder has been free this long after the first contact
+    # time-series columns whose peak the summary also gives low-pass filtered (yadeflex.force_filter):
+    # column -> summary key of the filtered peak
+    FILTERED = dict(impact_force="peak_impact_force_filtered")
+    cutoff_hz = CUTOFF_HZ  # [Hz] that filter's cut-off
     UNITS = dict(t="s", boulder_z="m", boulder_vz="m/s", boulder_az="m/s2", impact_force="N", penetration="m")
     ENERGY_FILE_UNITS = staticmethod(lambda k: "s" if k == "t" else "J")
 
@@ -497,7 +502,9 @@ class ImpactRun:
             impact_duration=((times.t_rebound or (times._t_touch if times.t_released else None) or O.time) - times.t_contact)
             if times.t_contact is not None else None,
             rebound=times.t_rebound is not None, released=times.t_released is not None)
+        out.update(self.filtered_results())
         out.update(self.scene_results())
+        out.update(self.energy_results())
         out.update(
             impact_energy=self.e_impact, max_overlap_ratio=self.max_overlap_ratio)
         out.update(self.mass_results())
@@ -511,6 +518,32 @@ class ImpactRun:
             engine_share={e.label or type(e).__name__: round(e.execTime / tot_ns, 4) for e in O.engines})
         out.update(self.broken_results())
         return out
+
+    def filtered_results(self):
+        """The peaks of the FILTERED columns after the low-pass filter (the raw peaks are the
+        summary's other keys), and the filter in words (force_filter); self.filtered: the
+        filtered series by column, for the plots."""
+        rows, self.filtered = self.rows.rows, {}
+        out = {key: None for key in self.FILTERED.values()}
+        try:
+            t = [r["t"] for r in rows]
+            for col, key in self.FILTERED.items():
+                self.filtered[col] = low_pass(t, [r[col] for r in rows], self.cutoff_hz)
+                out[key] = float(max(self.filtered[col]))
+            out["force_filter"] = describe(self.cutoff_hz)
+        except ValueError as e:  # too few records
+            out["force_filter"] = f"not filtered: {e}"
+        return out
+
+    def energy_results(self):
+        """The boulder's kinetic energy at the end, gravity's work on it since its first contact
+        and the energy the structure took: energy_absorbed = impact energy + that work - the
+        boulder's energy left [J]."""
+        st = self.boulder.state
+        ke_end = 0.5 * self.mass * st.vel.squaredNorm()
+        g = getattr(self, "gravity", None)
+        w_gravity = (self.mass * g).dot(st.pos - self.contact_pos) if self.contact_pos is not None and g is not None else 0.0
+        return dict(boulder_energy_end=ke_end, gravity_work_after_contact=w_gravity, energy_absorbed=self.e_impact + w_gravity - ke_end)
 
     def mass_results(self):
         """The summary's mass-scaling numbers."""

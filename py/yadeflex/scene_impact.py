@@ -19,7 +19,7 @@ from . import parts as P
 from . import runner as R
 from .boulder import boulder_material, make_boulder
 from .files import write_json
-from .force_filter import CUTOFF_HZ, describe, low_pass
+from .force_filter import CUTOFF_HZ, describe
 from .scene import contact_law
 
 PROG = "impact"
@@ -358,24 +358,11 @@ class SceneImpact(R.ImpactRun):
     def scene_results(self):
         rows = self.rows.rows
         out = {}
-        if len(rows) >= 3 * 5:
-            t = [r["t"] for r in rows]
-            try:
-                f = low_pass(t, [r["impact_force"] for r in rows], self.cutoff_hz)
-                out.update(peak_impact_force_filtered=float(max(f)), force_filter=describe(self.cutoff_hz))
-                self.filtered = f
-            except ValueError as e:
-                out.update(peak_impact_force_filtered=None, force_filter=f"not filtered: {e}")
         for n in self.reaction_names:
             if rows:
                 best = max(rows, key=lambda r: r[f"reaction_{n}"])
                 out[f"reaction_{n}_max"] = best[f"reaction_{n}"]
                 out[f"reaction_{n}_at_max"] = [best[f"reaction_{n}_{c}"] for c in "xyz"]
-        st = self.boulder.state
-        ke_end = 0.5 * self.mass * st.vel.squaredNorm()
-        w_gravity = (self.mass * self.gravity).dot(st.pos - self.contact_pos) if self.contact_pos is not None else 0.0
-        out.update(boulder_energy_end=ke_end, gravity_work_after_contact=w_gravity,
-                   energy_absorbed=self.e_impact + w_gravity - ke_end)
         return out
 
     def broken_results(self):
@@ -383,7 +370,7 @@ class SceneImpact(R.ImpactRun):
 
     def plots(self, folder, rows, erows, keys):
         from .impact_plots import write_energy_plot, write_scene_plots
-        write_scene_plots(folder, rows, getattr(self, "filtered", None), describe(self.cutoff_hz), self.reaction_names)
+        write_scene_plots(folder, rows, (getattr(self, "filtered", None) or {}).get("impact_force"), describe(self.cutoff_hz), self.reaction_names)
         write_energy_plot(folder, erows, keys)
 
 

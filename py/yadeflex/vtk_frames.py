@@ -456,9 +456,14 @@ def _write_vtu(vtk, grid, path, time, stamp=None):
     it.SetName("Iteration")
     it.InsertNextValue(iteration)
     fd.AddArray(it)
-    w = vtk["writer"]()
+    write_xml(vtk["writer"](), grid, path)
+
+
+def write_xml(w, data, path):
+    """data through the VTK XML writer w to path, as every VTK file of a run is written: inline
+    binary, LZ4, built in memory, then written from Python (OSError naming the file)."""
     w.SetFileName(path)
-    w.SetInputData(grid)
+    w.SetInputData(data)
     # inline (base64 in each array), not appended: ParaView 5.11's reader (Debian bookworm) stops
     # its XML parser at an appended block, which fails with the expat of Debian's security updates
     # (reparse deferral), and then shows nothing of the file

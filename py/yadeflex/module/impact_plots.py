@@ -5,18 +5,26 @@ import os
 from ..impact_plots import _save, write_energy_plot
 
 
-def write_plots(folder, rows, erows, keys):
+def write_plots(folder, rows, erows, keys, filtered=None, cutoff_hz=None):
     """impact.png and energy.png into folder; rows: timeseries.csv's, erows: energy.csv's, keys:
-    the energy terms to draw."""
+    the energy terms to draw; filtered: column -> its low-pass filtered series (drawn over the
+    raw one), cutoff_hz: that filter's cut-off [Hz]."""
+    filtered = filtered or {}
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     t = [1e3 * r["t"] for r in rows]
     fig, ax = plt.subplots(2, 2, figsize=(11, 7))
-    ax[0, 0].plot(t, [r["impact_force"] / 1e3 for r in rows], label="on the boulder")
-    ax[0, 0].plot(t, [r["slab_force"] / 1e3 for r in rows], label="on the slab")
+    for col, label, colour in (("impact_force", "on the boulder", "C0"), ("slab_force", "on the slab", "C1")):
+        raw = [r[col] / 1e3 for r in rows]
+        if col in filtered:
+            ax[0, 0].plot(t, raw, color=colour, lw=0.6, alpha=0.35, label=f"{label} (raw)")
+            ax[0, 0].plot(t, [f / 1e3 for f in filtered[col]], color=colour, label=f"{label} ({cutoff_hz:g} Hz low-pass)")
+        else:
+            ax[0, 0].plot(t, raw, color=colour, label=label)
     ax[0, 0].set(xlabel="t [ms]", ylabel="force [kN]", title="impact and slab forces")
-    ax[0, 0].legend()
+    ax[0, 0].set_ylim(bottom=min(0.0, ax[0, 0].get_ylim()[0]))
+    ax[0, 0].legend(fontsize=8)
     ax[0, 1].plot(t, [1e3 * r["penetration"] for r in rows])
     ax[0, 1].set(xlabel="t [ms]", ylabel="penetration [mm]", title="boulder penetration")
     ax[1, 0].plot(t, [1e3 * r["bulge_max"] for r in rows], label="max")
