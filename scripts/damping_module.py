@@ -9,12 +9,14 @@
 # wrote there are removed first; the time series are on disk row by row, and summary.json says
 # how the run ended ("status": done, unstable, interrupted, failed; "running" if the process
 # was killed outright), so a run stopped anyhow leaves what it recorded. --fill-only: only the
-# filled module, into the cache (exit status 0 once it is there, 1 if the fill failed).
+# filled module, into the cache (exit status 0 once it is there, 1 if the fill failed). --seeds N:
+# the same run on N fills built alike, into OUT/seedS/, and the scatter of the results in OUT.
 # Exit status (also in --help): 0 done; 1 bad input (one line on stderr names the option and the
 # values allowed; nothing is filled or written), an output folder that cannot be written, or another
 # error; 2 a NaN, an unstable state or a collapsed time step (the message names the body); 3 the
 # energy balance residual exceeded --max-residual; 130 interrupted by SIGINT (Ctrl-C), 143 by
 # SIGTERM. The options and their checks: yadeflex/module/cli.py; the run: yadeflex/module/impact.py.
+import dataclasses
 import os
 import sys
 
@@ -38,7 +40,10 @@ def main():
         print(f"{PROG}: YADE runs {O.numThreads} threads (yade-double -j) but {cpus} CPUs are available here: give -j {cpus} or fewer", file=sys.stderr)
         return 1
     if a.fill_only:
-        return fill_only(p, a.cache_dir)
+        return max(fill_only(dataclasses.replace(p, seed=p.seed + k), a.cache_dir) for k in range(a.seeds))
+    if a.seeds > 1:
+        from yadeflex.module.seeds import run_seeds
+        return run_seeds(p, a.out, a.seeds, cache_dir=a.cache_dir, **run_settings(a))
     return run_impact(p, a.out, cache_dir=a.cache_dir, **run_settings(a))["exit_status"]
 
 

@@ -26,7 +26,7 @@ def main(argv):
                                         "3 some runs did not finish (their status and log are in results.csv); 130, 143 stopped by "
                                         "Ctrl-C (SIGINT), SIGTERM: the queue cancelled, the running rows stopped with their partial "
                                         "results, results.csv written for every row")
-    ap.add_argument("study_file", help="CSV: a header of the main job's option names (plus name, repeat), a row per run")
+    ap.add_argument("study_file", help="CSV: a header of the main job's option names (plus name, seeds), a row per configuration")
     ap.add_argument("out_dir", help="results folder: runs/NAME/, results.csv, plots")
     ap.add_argument("--backend", default="local", help="local (default), mpi (under mpirun) or slurm")
     ap.add_argument("--workers", type=int, default=None, help="parallel runs (local: default the CPUs this process may run on; slurm: array throttle)")
@@ -40,6 +40,7 @@ def main(argv):
     ap.add_argument("--sbatch-arg", action="append", default=[], help="slurm: an extra sbatch argument (repeatable), e.g. --sbatch-arg=--qos=short")
     ap.add_argument("--poll", type=float, default=5.0, help="slurm: seconds between squeue polls (default 5)")
     ap.add_argument("--sbatch-setup", action="append", default=[], help="slurm: a shell line each job runs first (repeatable), e.g. --sbatch-setup='module load yade'")
+    ap.add_argument("--report", action="store_true", help="then write OUT_DIR/report.html (as scripts/report OUT_DIR does)")
     a = ap.parse_args(argv)
     try:
         with contextlib.redirect_stdout(io.StringIO()):  # (YADE's import prints its Python version: the coordinator stays quiet)
@@ -58,6 +59,9 @@ def main(argv):
         return study.EXIT_BAD_STUDY
     except study.StudyInterrupted as e:
         return 128 + e.signum
+    if a.report:
+        from yadeflex.module.study_report import write_report
+        print(f"study: report {write_report(a.out_dir)}", flush=True)
     return 0 if all(r["status"] == study.DONE for r in rows) else study.EXIT_RUNS_FAILED
 
 

@@ -1,7 +1,6 @@
 """The module's peak impact force against the empirical cushion formulas (yadeflex.module.cushion:
 Labiouse 1996, JRA 2000, ASTRA 2008) over drop height and boulder mass, on the reduced module
 (yadeflex.module.ModuleParams.small, run by yadeflex.module.impact.run_impact as the main job runs)."""
-import json
 import math
 import os
 
@@ -12,43 +11,14 @@ from yadeflex.harness.verdict import Case, grade
 
 GROUP = "Damping module against the cushion formulas (reduced module: 0.4 x 0.3 m, grains of 60-80 mm)"
 PLOTS = [("plots/cushion.png", "peak force against drop height and mass")]  # (path under OUT, title), shown under the group's table
-# The cushion's properties that the formulas need are the model's own fill's, measured in the
-# laboratory tests of validation/fill_calibration.py (its report, validation/calibration): the
-# plate-load modulus M_E from its plate-load test (as the formulas define it), over the range of
-# plate pressure every run reached (one gave way under the plate before 200 kPa); the Lame
-# constant from its oedometer, over the range of the pressure under the boulder at the peak force;
-# the angle of repose for the friction angle. The contacts are linear (kn = E r), so the moduli do
-# not depend on the grains' size: the gravel preset's 32-63 mm grains measure them for the reduced
-# module's 60-80 mm ones.
-CALIBRATION = os.path.join(os.path.dirname(os.path.abspath(__file__)), "calibration", "summary.json")
-PLATE_RANGE = "50-100kPa"
-LAME_RANGE = "100-200kPa"
 # the values used before the fill was measured, kept for comparison in each case's details
 ASSUMED = dict(M_E=5000e3, lame=1000e3)  # [Pa] an assumed loose-gravel plate-load modulus; JRA 2000's design value for a sand cushion
 
-
-def fill_properties(fill):
-    """dict(M_E, lame [Pa], friction_deg) of the preset's fill from validation/calibration/summary.json."""
-    try:
-        with open(CALIBRATION) as f:
-            s = json.load(f)[fill]
-        out = dict(M_E=float(s[f"plate_test_{PLATE_RANGE}"][0]), lame=float(s[f"lame_{LAME_RANGE}"][0]), friction_deg=float(s["repose_deg"][0]))
-        if not all(math.isfinite(v) and v > 0 for v in out.values()):
-            raise ValueError(f"not measured: {out}")
-        return out
-    except (OSError, KeyError, ValueError, IndexError) as e:
-        raise RuntimeError(f"the fill's measured moduli are missing from {CALIBRATION} ({e!r}): run validation/fill_calibration.py "
-                           f"with --to validation/calibration") from e
 
 EXPONENT_TOL = 0.1
 EXPONENT_WHY = ("all three formulas have the height exponent 3/5 of Hertz's elastic impact; their mass exponents at a constant block "
                 "size are 0.6 (Labiouse, ASTRA) and 2/3 (JRA). 0.1 is a judgement fixed here, wider than the formulas' spread (0.067); "
                 "the papers' own scatter is not in the repository")
-
-
-def _radius(p):
-    """The radius of the sphere of the boulder's volume [m] (the formulas' R)."""
-    return (3 * p.boulder_mass / p.boulder_density / (4 * math.pi)) ** (1 / 3)
 
 
 def _impact(p, out, cache_dir, key):
@@ -59,8 +29,8 @@ def _impact(p, out, cache_dir, key):
 
 
 def _formulas(p, height, props=None):
-    f = props or fill_properties(p.fill)
-    return cushion.formulas(p.boulder_mass, height, _radius(p), f["M_E"], f["lame"], p.height, f["friction_deg"])
+    f = props or cushion.fill_properties(p.fill)
+    return cushion.formulas(p.boulder_mass, height, cushion.equivalent_radius(p.boulder_mass, p.boulder_density), f["M_E"], f["lame"], p.height, f["friction_deg"])
 
 
 def run(full, out, cache_dir=None):
@@ -79,7 +49,7 @@ def run(full, out, cache_dir=None):
         p = ModuleParams.small(boulder_mass=m, boulder_density=m / size ** 3)  # the same cube, another density
         runs[("m", m)] = dict(_impact(p, out, cache_dir, f"m{m:g}"), params=p, height=base.drop_height, mass=m)
     res = []
-    props = fill_properties(base.fill)
+    props = cushion.fill_properties(base.fill)
 
     def fit(key, xs):
         pts = [(x, runs[(key, x)]["peak"]) for x in xs if math.isfinite(runs[(key, x)]["peak"])]
@@ -113,8 +83,8 @@ def run(full, out, cache_dir=None):
         fa = _formulas(r["params"], r["height"], dict(ASSUMED, friction_deg=FILLS[r["params"].fill]["friction_deg"]))
         c = Case(name=f"cushion_peak_{key[0]}{key[1]:g}", group=GROUP,
                  quantity=f"peak force [kN], {r['mass']:g} kg from {r['height']:g} m", reference=band,
-                 source=f"the band of the three formulas at the model fill's own M_E = {props['M_E'] / 1e3:.0f} kN/m2 (plate-load test, {PLATE_RANGE}), "
-                        f"lambda = {props['lame'] / 1e3:.0f} kN/m2 (oedometer, {LAME_RANGE}) and phi = {props['friction_deg']:.1f} deg "
+                 source=f"the band of the three formulas at the model fill's own M_E = {props['M_E'] / 1e3:.0f} kN/m2 (plate-load test, {cushion.PLATE_RANGE}), "
+                        f"lambda = {props['lame'] / 1e3:.0f} kN/m2 (oedometer, {cushion.LAME_RANGE}) and phi = {props['friction_deg']:.1f} deg "
                         "(angle of repose), measured by validation/fill_calibration.py; e = module height",
                  tolerance=0.0, kind="band", justification="the formulas' own disagreement at these parameters is the band")
         res.append(grade(c, r["peak"] / 1e3, penetration_m=r["penetration"], status=r["status"], energy_residual=r["residual"],

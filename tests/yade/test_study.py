@@ -40,8 +40,7 @@ def write_study(path, rows):
 
 
 def read_results(out):
-    with open(os.path.join(out, "results.csv"), newline="") as fh:
-        return {r["name"]: r for r in csv.DictReader(fh)}
+    return {r["name"]: r for r in study.read_results(os.path.join(out, "results.csv"))}
 
 
 def assert_same_run(a, b):

@@ -68,6 +68,9 @@ def _epilog():
             f"Every number must be finite; a scene over yadeflex.checks.MAX_BODIES = {C.MAX_BODIES} bodies is refused.")
 
 
+MAX_SEEDS = 1000  # runs of one configuration (each a fill of its own)
+
+
 def parser():
     ap = _Parser(prog="damping_module.py", description="Damping module hit by a boulder (yade-flex). Units are SI.",
                  epilog=_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
@@ -77,6 +80,9 @@ def parser():
     ap.add_argument("--no-vtk", action="store_true", help="no VTK time series")
     ap.add_argument("--fill-only", action="store_true", help="fill the module into the cache (--cache-dir) and stop: no impact, "
                     "nothing written into --out (a study fills each module once this way before its runs)")
+    ap.add_argument("--seeds", default=None, metavar="N", help="runs on N fills built alike (seeds --seed, --seed+1, ...; N whole, "
+                    f"1-{MAX_SEEDS}), each into OUT/seedS/, and the scatter of their results: OUT/configurations.csv, OUT/summary.json, "
+                    "OUT/scatter.png (default 1: one run into OUT)")
     for name, (f, p) in RUN_PARAMS.items():
         ap.add_argument(_option(name), default=None, metavar="X", help=P.help_text(f, p).replace("%", "%%"))
     for name, (f, p) in PARAMS.items():
@@ -105,6 +111,13 @@ def parse(argv):
     _folder("--out", a.out)
     if a.cache_dir is not None:
         _folder("--cache-dir", a.cache_dir)
+    given = a.seeds
+    try:
+        a.seeds = 1 if given is None else int(given)
+        if not 1 <= a.seeds <= MAX_SEEDS:
+            raise ValueError
+    except ValueError:
+        raise _bad("--seeds", given, f"a whole number in [1, {MAX_SEEDS}] (a fill each)") from None
     for name, (f, p) in RUN_PARAMS.items():
         v = getattr(a, name)
         setattr(a, name, f.default if v is None else _checked(_option(name), p.parse, name, v))

@@ -37,6 +37,7 @@ import time
 
 from ..files import write_atomic, write_json
 from .study_task import read_json, TERM_GRACE, die_with_parent
+from . import study_results as SR
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # (py/yadeflex/module/ in the checkout)
 RUN_SCRIPT = os.path.join(REPO, "scripts", "damping_module.py")
@@ -44,7 +45,7 @@ TASK_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "study_ta
 YADE_PY = "/usr/lib/x86_64-linux-gnu/yade-double/py"  # Debian's YADE modules (for the runs' PYTHONPATH)
 BACKENDS = ("local", "mpi", "slurm")
 FLAGS = ("small", "no_vtk")           # the job's options without a value: a yes/no cell
-STUDY_COLUMNS = ("name", "repeat")    # the study's own columns (seed is the job's --seed)
+STUDY_COLUMNS = ("name", "seeds", "repeat")  # the study's own columns (seed is the job's --seed; repeat: seeds' older name)
 SET_BY_STUDY = ("out", "cache_dir")   # options the study sets for every run
 NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 MAX_REPEAT = 1000  # runs of one row (each a fill of its own)
@@ -53,10 +54,13 @@ EXIT_BAD_STUDY, EXIT_RUNS_FAILED = 1, 3  # scripts/study's exit status (0: every
 
 # results.csv: the inputs, then these summary.json values, then energy_<term> (energy_end, J)
 # and the run's bookkeeping
-SUMMARY_COLUMNS = ("impact_energy", "peak_impact_force", "peak_deceleration", "penetration_max", "impact_duration", "rebound",
-                   "slab_force_max", "bulge_max", "ring_top_force_max", "ring_bottom_force_max", "rope_force_max",
+SUMMARY_COLUMNS = ("impact_energy", "peak_impact_force_filtered", "peak_impact_force", "peak_deceleration", "penetration_max",
+                   "impact_duration", "rebound", "slab_force_max_filtered", "slab_force_max", "slab_pressure_peak", "slab_pressure_peak_filtered",
+                   "slab_loaded_radius",
+                   "bulge_max", "ring_top_force_max", "ring_bottom_force_max", "rope_force_max",
                    "broken_wire_legs", "broken_ring_segments", "broken_rope_segments", "broken_lining_facets",
-                   "broken_other_elements", "broken_elements_total", "energy_residual_max_fraction", "impact_steps")
+                   "broken_other_elements", "broken_elements_total", "energy_absorbed", "gravity_work_after_contact", "boulder_energy_end",
+                   "energy_residual_max_fraction", "impact_steps")
 RUN_COLUMNS = ("status", "exit_status", "message", "run_time_s", "fill_time_s", "wall_time_s", "host", "log")
 TIMING_COLUMNS = ("run_time_s", "fill_time_s", "wall_time_s", "host", "log")  # differ between identical runs
 DONE = "done"
@@ -153,19 +157,22 @@ def read_study(path, out_dir=None):
         if not NAME_RE.fullmatch(name):
             errors.append(f"{_where(row, line, 'name')}: got {name!r}; allowed letters, digits, '.', '_', '-' (a folder name)")
         repeat = 1
-        if cells.get("repeat"):
+        if cells.get("seeds") and cells.get("repeat"):
+            errors.append(f"{_where(row, line, 'repeat')}: seeds and repeat are one option (repeat is its older name): give one")
+        col = "seeds" if cells.get("seeds") else "repeat"
+        if cells.get(col):
             try:
-                repeat = int(cells["repeat"])
+                repeat = int(cells[col])
                 if not 1 <= repeat <= MAX_REPEAT:
                     raise ValueError
             except ValueError:
-                errors.append(f"{_where(row, line, 'repeat')}: got {cells['repeat']!r}; allowed a whole number in [1, {MAX_REPEAT}] (a fill each)")
+                errors.append(f"{_where(row, line, col)}: got {cells[col]!r}; allowed a whole number in [1, {MAX_REPEAT}] (a fill each)")
                 repeat = 1
         argv, given = _row_argv(cells, row, line, errors)
         seed0 = None
         for k in range(repeat):
             run_argv = list(argv)
-            inputs = {c: cells.get(c, "") for c in header if c != "repeat"}
+            inputs = {c: cells.get(c, "") for c in header if c not in ("repeat", "seeds")}
             run_name = name
             if repeat > 1:
                 if seed0 is None:
@@ -191,7 +198,8 @@ def read_study(path, out_dir=None):
                 errors.append(f"{_where(row, line, 'name')}: the run name {run_name!r} is already row {names[run_name]}'s")
                 break
             names[run_name] = row
-            runs.append(dict(name=run_name, row=row, line=line, inputs=inputs, argv=run_argv, fill_key=p.fill_key()))
+            runs.append(dict(name=run_name, configuration=name, row=row, line=line, inputs=inputs, argv=run_argv, fill_key=p.fill_key(),
+                             params=p.resolved()))
     if errors:
         raise StudyError(errors)
     return runs
@@ -291,9 +299,13 @@ def result_row(run, folder, stopped=None):
     if status == "missing" and stopped:
         status = "cancelled"
     s = s or {}
-    row = dict(name=run["name"], row=run["row"])
-    row.update(run["inputs"])
+    params = run.get("params") or {}
+    row = dict(name=run["name"], configuration=run.get("configuration", run["name"]), row=run["row"])
+    row.update({k: v for k, v in run["inputs"].items() if k not in params and k != "name"})  # (small, no_vtk, the run limits)
+    row.update(params)
     row.update({k: s.get(k) for k in SUMMARY_COLUMNS})
+    if params:
+        row.update(SR.design_values(params)[0])
     row.update({f"energy_{k}": v for k, v in (s.get("energy_end") or {}).items()})
     message = s.get("message")
     if task is not None and task.get("skipped"):
@@ -318,28 +330,30 @@ def gather(runs, out_dir, stopped=None):
     """The rows of results.csv (one per run, in the study's order) and its columns; stopped: the
     signal that stopped the study, if one did."""
     rows = [result_row(r, run_folder(out_dir, r["name"]), stopped) for r in runs]
-    inputs = ["name", "row"] + list(dict.fromkeys(k for r in runs for k in r["inputs"] if k != "name"))
+    given = list(dict.fromkeys(k for r in runs for k in r["inputs"] if k not in r["params"] and k != "name"))
+    params = list(dict.fromkeys(k for r in runs for k in r["params"]))
     energy = sorted({k for r in rows for k in r if k.startswith("energy_") and k not in SUMMARY_COLUMNS})
-    return rows, inputs + list(SUMMARY_COLUMNS) + energy + list(RUN_COLUMNS)
+    formulas = [SR.formula_column(f) for f in SR.FORMULAS]
+    return rows, ["name", "configuration", "row", "seed"] + given + [k for k in params if k != "seed"] + list(SUMMARY_COLUMNS) + formulas + \
+        energy + list(RUN_COLUMNS)
 
 
-def _cell(v):
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return repr(v)  # shortest text that reads back to the same float
-    return v
+def param_units():
+    """Unit of each resolved parameter (results.csv's input columns)."""
+    from .params import PARAMS
+    units = {k: p.unit for k, (_, p) in PARAMS.items() if p.unit}
+    units.update(fill_density="kg/m3", boulder_size="m", seed="-")
+    return units
 
 
 def write_results(rows, columns, path):
-    """results.csv, written whole through a rename."""
-    import io
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=columns, restval="", lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: _cell(r.get(k)) for k in columns})
-    write_atomic(path, buf.getvalue())
+    """results.csv (headers NAME[UNIT]), written whole through a rename."""
+    SR.write_table(rows, columns, path, param_units())
+
+
+def read_results(path):
+    """results.csv's rows as dicts keyed by the bare column names (texts)."""
+    return SR.read_table(path)
 
 
 # ---- progress ----------------------------------------------------------------------------------
@@ -726,9 +740,16 @@ def _report(runs, out_dir, stopped, say):
     """results.csv, the plots and the closing line; returns the rows."""
     rows, columns = gather(runs, out_dir, None if stopped is None else signal.Signals(stopped).name)
     write_results(rows, columns, os.path.join(out_dir, "results.csv"))
+    confs = SR.configurations(rows, runs, DONE)
+    SR.write_configurations(confs, os.path.join(out_dir, "configurations.csv"), os.path.join(out_dir, "summary.json"), param_units(),
+                            dict(study=os.path.join(out_dir, "study.json"), runs=len(rows), runs_done=sum(r["status"] == DONE for r in rows),
+                                 software=software_version()))
+    for c in confs:
+        if c["n_done"]:
+            say(f"study: {c['configuration']}: {_scatter_line(c)}")
     try:
         from .study_plots import write_study_plots
-        for f in write_study_plots(rows, runs, out_dir):
+        for f in write_study_plots(rows, runs, out_dir, confs, say):
             say(f"study: plot {f}")
     except Exception as e:  # plots are a convenience: the table is the result
         say(f"study: (plots failed: {type(e).__name__}: {e})")
@@ -738,3 +759,28 @@ def _report(runs, out_dir, stopped, say):
         f"{r['name']} ({r['status']}, log {r['log']})" for r in failed[:10]) + (" ..." if len(failed) > 10 else "") if failed else "")
         + f"; results in {os.path.join(out_dir, 'results.csv')}")
     return rows
+
+
+def _scatter_line(c):
+    """A configuration's results in one line: peak force and penetration, mean +- sd (n runs)."""
+    def q(key, scale, unit):
+        m, sd = c[f"{key}_mean"], c[f"{key}_std"]
+        if m is None:
+            return f"{key} -"
+        return f"{m * scale:.1f}" + (f" +- {sd * scale:.1f}" if sd is not None else "") + f" {unit}"
+    k = c["peak_impact_force_filtered_characteristic"]
+    return (f"peak force {q('peak_impact_force_filtered', 1e-3, 'kN')} (filtered), slab {q('slab_force_max_filtered', 1e-3, 'kN')}, "
+            f"penetration {q('penetration_max', 1e3, 'mm')} over {c['n_done']} fill(s)"
+            + (f"; characteristic peak force {k / 1e3:.1f} kN" if k is not None else ""))
+
+
+def software_version():
+    """yade-flex's commit (and whether the checkout had changes), YADE's version."""
+    def out(cmd):
+        try:
+            return subprocess.run(cmd, capture_output=True, text=True, timeout=30).stdout.strip()
+        except (OSError, subprocess.TimeoutExpired):
+            return ""
+    head = out(["git", "-C", REPO, "describe", "--always", "--dirty"])
+    yade = out(["dpkg-query", "-W", "-f", "${Version}", "yade"])
+    return dict(yadeflex=head or "unknown (not a git checkout)", yade=f"Debian package yade {yade}" if yade else "unknown")
