@@ -133,7 +133,7 @@ def _inputs(runs, confs):
     if differ:
         out.append("<p>The parameters that differ between configurations (the values the runs used; those they share: "
                    "<a href='#fixed'>fixed parameters</a>):</p>")
-        out.append(_table(["configuration"] + [f"{_e(k)} [{_e(units.get(k) or '-')}]" for k in differ],
+        out.append(_table(["configuration"] + [_e(k) + (f" [{_e(units[k])}]" if units.get(k) else "") for k in differ],
                           [[_e(c["configuration"])] + [_val(c["inputs"].get(k)) for k in differ] for c in confs]))
     out.append("<p>Grain sizes of each fill:</p>")
     from ..grains import FILLS
