@@ -15,7 +15,8 @@ from conftest import REPO
 # cushion cases (their tolerances are judgements; their bands rest on the fill's measured moduli, validation/calibration)
 PASSING = ["cantilever_tip_load", "cantilever_self_weight", "bar_axial", "cantilever_first_frequency", "membrane_point_load",
            "membrane_circular_pressure", "energy_elastic_impact", "free_fall", "contact_duration", "wire_curve_knots",
-           "rope_axial_stiffness", "rope_breaking_force", "ring_point_loads"]
+           "rope_axial_stiffness", "rope_breaking_force", "ring_point_loads", "tecco_g65_longitudinal_speed_effect",
+           "tecco_g65_transverse_speed_effect", "tecco_g65_transverse_peak"]
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +78,7 @@ def test_readme_lists_every_case_with_its_verdict_and_plots(report):
     for name, c in s["cases"].items():
         line = next(ln for ln in text.splitlines() if ln.startswith(f"| `{name}` |"))
         assert f"**{c['verdict']}**" in line
-    for png in ("plots/cushion.png", "plots/mesh_longitudinal.png"):
+    for png in ("plots/cushion.png", "plots/mesh_longitudinal.png", "plots/mesh_transverse.png", "plots/tecco_wire.png"):
         assert (out / png).stat().st_size > 5000 and f"]({png})" in text
 
 
