@@ -170,4 +170,5 @@ def main():
     print(f"wrote {path} ({time.time() - t_all:.0f} s)")
 
 
-main()
+if __name__ == "__main__":  # (bench/lammps_grains.py imports its scene)
+    main()
