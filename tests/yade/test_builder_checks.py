@@ -142,6 +142,10 @@ BAD = [
     (tensile.mesh_panel_scene, lambda c: ((), dict(speed=NAN)), "speed"),
     (tensile.mesh_panel_scene, lambda c: ((), dict(width=BIG)), "panel width"),
     (tensile.mesh_tensile_test, lambda c: (({},), dict(max_elongation=NAN)), "max_elongation"),
+    (tensile.tecco_modellers_scene, lambda c: ((), dict(direction="diagonal")), "direction"),
+    (tensile.tecco_modellers_scene, lambda c: ((), dict(speed=NAN)), "speed"),
+    (tensile.tecco_modellers_test, lambda c: ((), dict(speed=-1.0)), "speed"),
+    (tensile.wire_bound_per_m, lambda c: (("diagonal",), {}), "direction"),
     (tensile.ring_point_loads, lambda c: ((), dict(segments=7)), "segments"),
     (tensile.ring_point_loads, lambda c: ((), dict(rel_deflection=NAN)), "rel_deflection"),
     (tensile.ring_pull, lambda c: ((), dict(stretch=NAN)), "stretch"),
@@ -190,7 +194,7 @@ BAD = [
 
 # public functions that take no user values to check, or only read the scene
 NOT_BUILDERS = {"lookup_material", "check_finite", "membrane_state", "read_mesh", "critical_timestep", "energy_budget", "bond_forces",
-                "contacts_on", "contact_law", "write_curve", "square_membrane_deflection", "foppl_hencky_centre_deflection"}
+                "contacts_on", "contact_law", "write_curve", "curve_at", "square_membrane_deflection", "foppl_hencky_centre_deflection"}
 
 
 def _public(mod):

@@ -64,6 +64,8 @@ BAD = [
     (["--lining-node-mass", "-0.01"], "--lining-node-mass"), (["--lining-node-mass", "nan"], "--lining-node-mass"),
     (["--lining-node-mass", "5"], "--lining-node-mass"),
     (["--seed", "1.5"], "--seed"), (["--seed", "-1"], "--seed"), (["--seed", "1e40"], "--seed"),
+    (["--seeds", "0"], "--seeds"), (["--seeds", "1.5"], "--seeds"), (["--seeds", "1001"], "--seeds"),
+    (["--seed", "2147483647", "--seeds", "2"], "--seeds"),
     (["--n-modules", "2"], "--n-modules"), (["--n-modules", "three"], "--n-modules"),
     (["--module-gap", "-0.02"], "--module-gap"), (["--module-gap", "5"], "--module-gap"),
     (["--rope", "perhaps"], "--rope"),

@@ -69,6 +69,7 @@ def _epilog():
 
 
 MAX_SEEDS = 1000  # runs of one configuration (each a fill of its own)
+MAX_SEED = 2 ** 31 - 1  # the largest --seed
 
 
 def parser():
@@ -135,6 +136,8 @@ def parse(argv):
         if v is not None:
             setattr(p, name, _checked(_option(name), prm.parse, name, v))
     _checked(None, p.validate)
+    if p.seed + a.seeds - 1 > MAX_SEED:
+        raise _bad("--seeds", given, f"at most {MAX_SEED - p.seed + 1} from --seed {p.seed} (seeds up to {MAX_SEED})")
     return a, p
 
 

@@ -17,8 +17,8 @@ def run_seeds(params, out, n, cache_dir=None, progress=True, **settings):
     """run_impact of params on n seeds (params.seed, +1, ...) into out/seedS/, then the scatter
     files into out; returns the exit status (0 if every run was done, else the first failed
     run's; an interrupted run stops the others)."""
-    if params.seed + n - 1 > MAX_SEED:
-        raise ValueError(f"--seeds {n} from --seed {params.seed} passes the largest seed {MAX_SEED}")
+    if params.seed + n - 1 > MAX_SEED:  # (the command line refuses it first)
+        raise ValueError(f"seeds: {n} from seed {params.seed} pass the largest seed {MAX_SEED}")
     os.makedirs(out, exist_ok=True)
     for f in RESULT_FILES:  # (an earlier single run's files: not this configuration's scatter)
         if os.path.exists(os.path.join(out, f)):
