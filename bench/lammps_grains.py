@@ -412,4 +412,5 @@ def main():
     print(f"wrote {path} ({time.time() - t_all:.0f} s)")
 
 
-main()
+if __name__ == "__main__":
+    main()

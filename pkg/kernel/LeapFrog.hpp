@@ -67,6 +67,7 @@ struct BodyDofs {
 	double      mass;
 	unsigned    blocked; // dofBit()s of the blocked DOFs
 	bool        damped;  // State::isDamped
+	bool        turns = true; // its orientation integrated (false: a body whose orientation no force depends on, a sphere)
 };
 
 /// Minus the work the drive of the blocked DOFs does this step [J] (0 for a free body or a
@@ -95,7 +96,7 @@ inline double dampingWork(const Vec3& f, const Vec3& m, const BodyDofs& b, const
 	return e * s.damping * s.dt;
 }
 
-/// The update of velocities (free DOFs), position and orientation from force f and moment m.
+/// The update of velocities (free DOFs), position and (b.turns) orientation from force f and moment m.
 inline void leapFrog(const Vec3& f, const Vec3& m, BodyDofs& b, const LeapFrogSettings& s)
 {
 	const double dt = s.dt;
@@ -128,6 +129,7 @@ inline void leapFrog(const Vec3& f, const Vec3& m, BodyDofs& b, const LeapFrogSe
 		b.angVel += dt * al;
 	}
 	b.pos += b.vel * dt;
+	if (!b.turns) return;
 	const double w2 = b.angVel.squaredNorm();
 	if (w2 != 0) {
 		const double w = std::sqrt(w2);

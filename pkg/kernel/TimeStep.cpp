@@ -57,4 +57,9 @@ bool cannotTouch(double gap, double reachA, double reachB, double size)
 	return gap > reach + 1e-9 * (std::abs(size) + reach + std::abs(gap));
 }
 
+double flooredSweep(double sweep, bool moving, double minSweep)
+{
+	return moving && sweep < minSweep && minSweep > 0 ? minSweep : sweep;
+}
+
 } // namespace flex

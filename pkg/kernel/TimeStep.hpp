@@ -42,4 +42,9 @@ double primitiveGap(const Vec3* a, int na, double ra, const Vec3* b, int nb, dou
 /// reachB: gap > reachA + reachB with a relative margin of 1e-9 that covers round-off.
 bool cannotTouch(double gap, double reachA, double reachB, double size);
 
+/// The sweep a bound keeps: YADE's (BoundDispatcher: zero for a body that did not move since its
+/// bound's last update), except that a body that moves (`moving`) gets at least minSweep, the
+/// smallest sweep YADE gives a body that moved [m].
+double flooredSweep(double sweep, bool moving, double minSweep);
+
 } // namespace flex

@@ -1,6 +1,7 @@
 // yade-flex adapter: FlexNewtonIntegrator, NewtonIntegrator for scenes with yade-flex elements
 // (GPL-2.0-or-later). Declaration: FlexNewtonIntegrator.hpp.
 #include "FlexElements.hpp"
+#include "FlexBoundDispatcher.hpp"
 #include "FlexProtocol.hpp"
 #include "speed/FlexTuning.hpp"
 
@@ -40,8 +41,12 @@ void FlexNewtonIntegrator::refresh()
 			movers.push_back(b->id);
 	}
 	isMover.assign(scene->bodies->size(), 0);
-	for (Body::id_t id : movers)
-		isMover[id] = 1;
+	isSphere.assign(scene->bodies->size(), 0);
+	for (Body::id_t id : movers) {
+		isMover[id]         = 1;
+		const Body* b       = flexa::bodyAt(scene, id);
+		isSphere[id]        = b && b->shape && typeid(*b->shape) == typeid(Sphere);
+	}
 	cachedBodyCount = scene->bodies->size();
 	tableRuns       = -2; // rebuild the node table
 }
@@ -181,6 +186,7 @@ void FlexNewtonIntegrator::action()
 	flexa::checkScene(scene, this);
 	flexa::checkTimeStep(scene);
 	if (scene->bodies->size() != cachedBodyCount) refresh();
+	sweepFloorInPlace = FlexBoundDispatcher::install(scene, sweepFloor);
 	usedFastPath = simple && !scene->isPeriodic && !(mask > 0) && !densityScaling; // body callbacks: not compiled in Debian's YADE
 	if (!usedFastPath) {
 		integrateWithYade();
@@ -287,6 +293,7 @@ void FlexNewtonIntegrator::integrate()
 		const unsigned blocked = st->blockedDOFs;
 		static_assert(unsigned(State::DOF_ALL) == flex::kAllDofs, "the kernel numbers DOFs as State::axisDOF");
 		flex::BodyDofs dofs { st->se3.position, st->vel, st->angVel, st->se3.orientation, st->inertia, st->mass, blocked, st->isDamped };
+		dofs.turns = sphereOrientation || !isSphere[id];
 		if (track) {
 			// the same terms as NewtonIntegrator (kernel/LeapFrog.hpp), summed here and booked
 			// once per step; damping on free DOFs only

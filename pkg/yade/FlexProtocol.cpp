@@ -1,7 +1,10 @@
 // yade-flex adapter: the collider and the engine order the engines rely on (GPL-2.0-or-later).
 // What and why: FlexProtocol.hpp.
 #include "FlexProtocol.hpp"
+#include "FlexBoundDispatcher.hpp"
 #include "FlexFacet.hpp"
+
+#include <kernel/TimeStep.hpp>
 
 #include <core/InteractionLoop.hpp>
 #include <pkg/common/InsertionSortCollider.hpp>
@@ -170,4 +173,41 @@ namespace flexa {
 		        || t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
 	}
 } // namespace flexa
+
+YADE_PLUGIN((FlexBoundDispatcher));
+
+void FlexBoundDispatcher::action()
+{
+	BoundDispatcher::action();
+	floored = 0;
+	if (!(targetInterv > 0) || !(sweepDist > 0)) return; // every bound has sweepDist, or none a sweep
+	const Real minSweep = minSweepDistFactor * sweepDist;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !b->bound || b->bound->lastUpdateIter != scene->iter || b->bound->sweepLength != 0) continue;
+		const State& st     = *b->state;
+		const bool   moving = b->isDynamic() || st.vel != Vector3r::Zero() || st.angVel != Vector3r::Zero();
+		const Real   sweep  = flex::flooredSweep(0, moving, minSweep);
+		if (sweep == 0) continue;
+		b->bound->sweepLength = sweep;
+		b->bound->min -= Vector3r::Constant(sweep);
+		b->bound->max += Vector3r::Constant(sweep);
+		++floored;
+	}
+}
+
+bool FlexBoundDispatcher::install(const Scene* scene, bool on)
+{
+	const shared_ptr<Engine> e = flexa::insertionSortCollider(scene);
+	if (!e) return false;
+	auto*                             isc  = static_cast<InsertionSortCollider*>(e.get());
+	const shared_ptr<BoundDispatcher> old  = isc->boundDispatcher;
+	const bool                        ours = old && dynamic_cast<const FlexBoundDispatcher*>(old.get());
+	if (ours == on) return on;
+	if (on && old && typeid(*old) != typeid(BoundDispatcher)) return false; // someone's own dispatcher: left alone
+	shared_ptr<BoundDispatcher> d = on ? shared_ptr<BoundDispatcher>(boost::make_shared<FlexBoundDispatcher>()) : boost::make_shared<BoundDispatcher>();
+	if (old) d->functors_set(old->functors);
+	isc->boundDispatcher = d;
+	return on;
+}
+
 } // namespace yade

@@ -148,3 +148,28 @@ TEST(LeapFrog, ConstantSpinTurnsByOmegaDtPerStep)
 	EXPECT_NEAR(Eigen::AngleAxis<double>(b.ori).angle(), 2.0, 1e-12);
 	EXPECT_NEAR(b.ori.norm(), 1, 1e-15);
 }
+
+// A body that does not turn (a sphere, whose orientation no force depends on) keeps its
+// orientation, and every other DOF moves exactly as that of a body that turns.
+TEST(LeapFrog, ABodyThatDoesNotTurnMovesAsOneThatDoes)
+{
+	Body a, b;
+	a.angVel = b.angVel = Vec3(0.3, -2.0, 1.5);
+	a.vel = b.vel = Vec3(1.0, 0.5, -0.2);
+	a.inertia = b.inertia = Vec3(2.0, 2.0, 2.0);
+	const Quat q0(Eigen::AngleAxis<double>(0.7, Vec3(1, 2, 3).normalized()));
+	a.ori = b.ori = q0;
+	const auto s  = settings(1e-3, Vec3(0, 0, -9.81), 0.2);
+	for (int n = 0; n < 200; ++n) {
+		const Vec3 f(std::sin(0.1 * n), 2.0, -1.0), m(0.5, std::cos(0.2 * n), -0.3);
+		BodyDofs   da = a.dofs(), db = b.dofs();
+		db.turns = false;
+		leapFrog(f, m, da, s);
+		leapFrog(f, m, db, s);
+	}
+	EXPECT_EQ(a.pos, b.pos);
+	EXPECT_EQ(a.vel, b.vel);
+	EXPECT_EQ(a.angVel, b.angVel);
+	EXPECT_EQ(b.ori.coeffs(), q0.coeffs());
+	EXPECT_GT(Eigen::AngleAxis<double>(a.ori * q0.inverse()).angle(), 0.1); // the turning one turned
+}

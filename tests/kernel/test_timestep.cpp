@@ -189,3 +189,16 @@ TEST(TimeStep, CannotTouchKeepsAMarginForRoundOff)
 	EXPECT_FALSE(cannotTouch(std::numeric_limits<double>::quiet_NaN(), 0, 0, 1.0));
 	EXPECT_FALSE(cannotTouch(-std::numeric_limits<double>::infinity(), 0, 0, 1.0));
 }
+
+TEST(TimeStep, AMovingBodyNeverKeepsAZeroSweep)
+{
+	const double minSweep = 0.1 * 8e-3; // YADE's minSweepDistFactor x verletDist
+	// a grain that did not move between two bound updates: YADE gives it 0, which any round-off
+	// motion of its centre leaves (the collider's trigger: d != 0 and d >= sweep)
+	EXPECT_EQ(flooredSweep(0.0, true, minSweep), minSweep);
+	EXPECT_LT(3.5e-18, flooredSweep(0.0, true, minSweep)); // round-off stays inside the floored one
+	EXPECT_EQ(flooredSweep(0.0, false, minSweep), 0.0);                  // a wall or a fixed facet
+	EXPECT_EQ(flooredSweep(2.5e-3, true, minSweep), 2.5e-3);             // YADE's own sweeps stay
+	EXPECT_EQ(flooredSweep(minSweep, true, minSweep), minSweep);
+	EXPECT_EQ(flooredSweep(0.0, true, 0.0), 0.0);                        // no verlet distance: no sweep
+}

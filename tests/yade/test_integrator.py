@@ -8,19 +8,24 @@ import yadeflex as yf
 from yadeflex.harness import scenes
 
 
-def _run(cls, steps=1500):
+def _run(cls, steps=1500, **kw):
     scenes.net_impact(n=10, spacing=0.05, wire_radius=0.002, sphere_radius=0.06, speed=6.0, damping=0.2)
     old = O.engines[-1]
     # a fixed step: the time stepper also updates when the collider runs, and the two
     # integrators trigger the collider at different steps (that is the point of the Flex one)
     O.dt = 0.5 * yf.critical_timestep()
-    O.engines = [e for e in O.engines[:-1] if e.label != "flexDt"] + [cls(gravity=old.gravity, damping=old.damping)]
+    O.engines = [e for e in O.engines[:-1] if e.label != "flexDt"] + [cls(gravity=old.gravity, damping=old.damping, **kw)]
     O.trackEnergy = True
     for _ in range(steps):
         O.step()
     dofs = [(tuple(b.state.pos), tuple(b.state.vel), tuple(b.state.angVel), tuple(b.state.ori)) for b in O.bodies
             if b is not None and type(b.shape).__name__ != "FlexCylinder"]
     return dofs, {k: O.energy[k] for k in O.energy.keys()}, O.engines[-1]
+
+
+def _spheres():
+    return [k for k, b in enumerate(b for b in O.bodies if b is not None and type(b.shape).__name__ != "FlexCylinder")
+            if type(b.shape).__name__ == "Sphere"]
 
 
 def _same_energy(ea, eb):
@@ -34,9 +39,25 @@ def _same_energy(ea, eb):
 
 def test_same_motion_and_energy_as_newton_integrator(scene):
     a, ea, _ = _run(NewtonIntegrator)
-    b, eb, e = _run(FlexNewtonIntegrator)
+    b, eb, e = _run(FlexNewtonIntegrator, sphereOrientation=True)
     assert e.usedFastPath
     assert a == b
+    _same_energy(ea, eb)
+
+
+def test_spheres_keep_their_orientation_and_move_the_same(scene):
+    """By default the fast path leaves a sphere's orientation alone (no force depends on it):
+    every other DOF, and the nodes' orientations, as NewtonIntegrator's, bit for bit."""
+    a, ea, _ = _run(NewtonIntegrator)
+    spheres = _spheres()
+    b, eb, e = _run(FlexNewtonIntegrator)
+    assert e.usedFastPath and not e.sphereOrientation and spheres
+    for k, (da, db) in enumerate(zip(a, b)):
+        assert da[:3] == db[:3], k
+        if k in spheres:
+            assert db[3] == (0.0, 0.0, 0.0, 1.0) and da[3] != db[3], k  # NewtonIntegrator's turned
+        else:
+            assert da[3] == db[3], k
     _same_energy(ea, eb)
     assert ea["nonviscDamp"] > 0 and ea["flexFriction"] > 0
 
