@@ -45,8 +45,16 @@ def _time_to_result(rows):
     return [dict(r, speedup=float(r["before_s"]) / float(r["after_s"])) for r in rows]
 
 
+def _lammps(rows):
+    return [dict(r, ratio_text=f"{float(r['ratio']):.2f}x ({r['ratio_range']})", over_plain=1 / float(r["yadeflex_over_plain"])) for r in rows]
+
+
 # name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
 TABLES = {
+    "lammps_grains": dict(csv="lammps_grains.csv", rows=_lammps, columns=[
+        ("case (one thread)", "case", text), ("yade-flex µs/particle-step", "yadeflex_us_per_particle_step", fixed(3)),
+        ("LAMMPS", "lammps_us_per_particle_step", fixed(3)), ("ratio (range)", "ratio_text", text), ("LAMMPS law", "lammps_law", text),
+        ("plain YADE", "plain_yade_us", fixed(3)), ("yade-flex faster than plain YADE", "over_plain", times(1))]),
     "time_to_result": dict(csv="time_to_result.csv", rows=_time_to_result, columns=[
         ("stage", "stage", text), ("before [s]", "before_s", fixed(1)), ("after [s]", "after_s", fixed(1)), ("speed-up", "speedup", times(2))]),
     "cylinders_timing": dict(csv="cylinders_timing.csv", columns=[
