@@ -320,7 +320,7 @@ def add_boulder(info, params, gap=0.005):
     """The boulder of yadeflex.module.add_boulder (same shape, mass, inertia, material, speed, and the
     same rule: lowest point `gap` [m] above the highest grain or mesh node + half the ring bar),
     with the grains' collision mask. Returns its body id."""
-    bid = flex_module.add_boulder(params, dict(grains=info["grains"], mesh_nodes=info["mesh_nodes"]), gap=gap)
+    bid = flex_module.add_boulder(params, dict(grains=info["grains"], modules=[dict(mesh_nodes=info["mesh_nodes"])]), gap=gap)
     b = O.bodies[bid]
     for m in (list(b.shape.members.keys()) if b.isClump else [bid]):
         O.bodies[m].mask = GRAIN_MASK
