@@ -7,14 +7,22 @@ namespace yade {
 class Law2_FlexContactGeom_FrictPhys_CundallStrack : public LawFunctor {
 public:
 	bool go(shared_ptr<IGeom>&, shared_ptr<IPhys>&, Interaction*) override;
-	/// go() on the contact's geometry and physics; angVel1/angVel2: the angular velocities of
-	/// the two bodies if the caller has them (FlexInteractionLoop's table of sphere motion), else
-	/// null (read from the bodies' states; only rolling resistance reads them)
-	bool apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2);
+	/// What a caller already knows of the two bodies of a contact between two plain spheres
+	/// (FlexInteractionLoop's table of sphere motion): their angular velocities (rolling
+	/// resistance) and inverse masses (the crossing correction: 1 / mass, 0 for a body that
+	/// cannot move, as flexa::ContactSide::invMass gives them)
+	struct KnownSpheres {
+		const Vector3r *angVel1, *angVel2;
+		Real            invMass1, invMass2;
+	};
+	/// go() on the contact's geometry and physics between bodies id1 and id2 (the interaction's,
+	/// in its order); known: what the caller knows of the two bodies (two plain spheres), else
+	/// null (read from the bodies' states where needed)
+	bool apply(FlexContactGeom& g, FrictPhys& p, Body::id_t id1, Body::id_t id2, const KnownSpheres* known);
 	/// Rolling stiffness kr of this contact (0: none; only sphere-sphere contacts roll) [N m].
 	Real rollingK(const FlexContactGeom& g, const FrictPhys& p) const;
 	/// maxOverlapRatio and maxOverlapIds (several threads: a lock only when the maximum grows)
-	void noteOverlap(Real ratio, const Interaction* I);
+	void noteOverlap(Real ratio, Body::id_t id1, Body::id_t id2);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Law2_FlexContactGeom_FrictPhys_CundallStrack, LawFunctor,
 		"Linear frictional contact [CundallStrack1979]_ on :yref:`FlexContactGeom`; forces and moments go to the element nodes by the shape functions (exact force and moment balance). Optional rolling resistance between spheres (angular grains): an elastic-plastic moment of stiffness kr = rollingStiffness ks R^2 capped at rollingFriction R |Fn|, R = R1 R2/(R1 + R2). Optional grain crushing between spheres: the normal force never exceeds the point-load failure load of the smaller sphere (crushingIs50); past it the contact yields. Books 'flexContactElastic', 'flexFriction', 'flexRolling', 'flexCrushing' and 'flexHandover' in O.energy.",

@@ -338,12 +338,14 @@ namespace {
 	}
 	// One step of the correction for contact g (normal spring kn): the extra normal force on
 	// side 2, repulsive positive [N]
-	Real crossingStep(const Scene* scene, FlexContactGeom& g, Real kn, const Interaction* I)
+	Real crossingStep(const Scene* scene, FlexContactGeom& g, Real kn, Body::id_t id1, Body::id_t id2,
+	                  const Law2_FlexContactGeom_FrictPhys_CundallStrack::KnownSpheres* known)
 	{
 		const Real          rate = -g.normal.dot(g.relVel); // d(overlap)/dt
 		flex::CrossingState st   = crossingOf(scene, g, kn, rate);
 		const Real          c    = flex::crossingStep(st, kn, g.penetrationDepth, rate, scene->dt, [&] {
-                        return flexa::ContactSide::of(g, 1, I->getId1()).invMass(scene) + flexa::ContactSide::of(g, 2, I->getId2()).invMass(scene);
+                        if (known) return known->invMass1 + known->invMass2;
+                        return flexa::ContactSide::of(g, 1, id1).invMass(scene) + flexa::ContactSide::of(g, 2, id2).invMass(scene);
                 });
 		keepCrossing(scene, g, st);
 		return c;
@@ -352,10 +354,10 @@ namespace {
 
 bool Law2_FlexContactGeom_FrictPhys_CundallStrack::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
 {
-	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I, nullptr, nullptr);
+	return apply(static_cast<FlexContactGeom&>(*ig), static_cast<FrictPhys&>(*ip), I->getId1(), I->getId2(), nullptr);
 }
 
-void Law2_FlexContactGeom_FrictPhys_CundallStrack::noteOverlap(Real ratio, const Interaction* I)
+void Law2_FlexContactGeom_FrictPhys_CundallStrack::noteOverlap(Real ratio, Body::id_t id1, Body::id_t id2)
 {
 	Real seen;
 #ifdef YADE_OPENMP
@@ -367,7 +369,7 @@ void Law2_FlexContactGeom_FrictPhys_CundallStrack::noteOverlap(Real ratio, const
 #pragma omp critical(flexMaxOverlap)
 #endif
 	if (ratio > maxOverlapRatio) {
-		maxOverlapIds = Vector2i(I->getId1(), I->getId2());
+		maxOverlapIds = Vector2i(id1, id2);
 #ifdef YADE_OPENMP
 #pragma omp atomic write
 #endif
@@ -375,7 +377,7 @@ void Law2_FlexContactGeom_FrictPhys_CundallStrack::noteOverlap(Real ratio, const
 	}
 }
 
-bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, FrictPhys& p, Interaction* I, const Vector3r* angVel1, const Vector3r* angVel2)
+bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, FrictPhys& p, Body::id_t id1, Body::id_t id2, const KnownSpheres* known)
 {
 	const bool track = scene->trackEnergy && p.ks > 0;
 	if (!g.active) {
@@ -403,11 +405,11 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		// on the bodies only (the interaction's own data stay as they were, for the neighbours)
 		bool crossingOn = false;
 		if (crossing && g.crossIter == scene->iter - 1 && g.penetrationDepth <= 0) {
-			const Real c = crossingStep(scene, g, p.kn, I);
+			const Real c = crossingStep(scene, g, p.kn, id1, id2, known);
 			if (c != 0) {
 				const flexa::ForceSink* sink = flexa::currentSink();
-				flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -c * g.normal);
-				flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, c * g.normal);
+				flexa::ContactSide::of(g, 1, id1).applyForce(scene, sink, g.contactPoint, -c * g.normal);
+				flexa::ContactSide::of(g, 2, id2).applyForce(scene, sink, g.contactPoint, c * g.normal);
 			}
 			crossingOn = !flex::crossingDone(flex::CrossingState { g.crossDepth, g.crossForce, g.crossRate, g.crossDefect, g.crossOut });
 		}
@@ -432,7 +434,7 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	}
 	if (element) g.plasticOverlap = flex::shrinkOffset(g.plasticOverlap, g.penetrationDepth);
 	const Real reach = g.refR1 + g.refR2;
-	if (reach > 0) noteOverlap(g.penetrationDepth / reach, I);
+	if (reach > 0) noteOverlap(g.penetrationDepth / reach, id1, id2);
 	const Vector3r&               n     = g.normal;
 	const Vector3r                shear = flex::rotateShear(g.handover ? g.handoverShear : Vector3r(p.shearForce), n);
 	const Vector3r                dus   = (g.relVel - n.dot(g.relVel) * n) * scene->dt;
@@ -457,26 +459,24 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 	p.shearForce                    = r.shearForce;
 	// the crossing correction (a linear spring only: not a crushed sphere pair); not part of the
 	// normal force the friction and the outputs see
-	const Real              cross   = (crossing && crushWork == 0 && g.plasticOverlap == 0 && !g.pierced) ? crossingStep(scene, g, p.kn, I) : 0;
+	const Real              cross   = (crossing && crushWork == 0 && g.plasticOverlap == 0 && !g.pierced) ? crossingStep(scene, g, p.kn, id1, id2, known) : 0;
 	const Vector3r          F       = r.normalForce + r.shearForce + cross * n; // on side 2
 	const flexa::ForceSink* sink    = flexa::currentSink();         // (set by FlexInteractionLoop on several threads)
-	flexa::ContactSide::of(g, 1, I->getId1()).applyForce(scene, sink, g.contactPoint, -F);
-	flexa::ContactSide::of(g, 2, I->getId2()).applyForce(scene, sink, g.contactPoint, F);
+	flexa::ContactSide::of(g, 1, id1).applyForce(scene, sink, g.contactPoint, -F);
+	flexa::ContactSide::of(g, 2, id2).applyForce(scene, sink, g.contactPoint, F);
 	Real       rollEnergy = 0;
 	const Real kr         = rollingK(g, p);
 	if (kr > 0) { // rolling resistance between two spheres (both sides rigid)
-		if (!angVel1 || !angVel2) {
-			angVel1 = &Body::byId(I->getId1(), scene)->state->angVel;
-			angVel2 = &Body::byId(I->getId2(), scene)->state->angVel;
-		}
-		const Vector3r           dw   = *angVel2 - *angVel1;
+		const Vector3r& w1 = known ? *known->angVel1 : Body::byId(id1, scene)->state->angVel;
+		const Vector3r& w2 = known ? *known->angVel2 : Body::byId(id2, scene)->state->angVel;
+		const Vector3r  dw = w2 - w1;
 		const Vector3r           dth  = (dw - n.dot(dw) * n) * scene->dt;
 		const Real               Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
 		const flex::CappedSpring rs
 		        = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
 		g.rollMoment = rs.value;
-		flexa::addTorque(scene, sink, I->getId1(), -rs.value);
-		flexa::addTorque(scene, sink, I->getId2(), rs.value);
+		flexa::addTorque(scene, sink, id1, -rs.value);
+		flexa::addTorque(scene, sink, id2, rs.value);
 		rollEnergy = rs.energy;
 		if (scene->trackEnergy && rs.dissipated != 0) flexa::addEnergy(scene, rs.dissipated, "flexRolling", rollIx, false);
 	}

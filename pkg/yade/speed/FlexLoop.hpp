@@ -30,8 +30,9 @@
 //     listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead. An
 //     existing sphere-sphere contact of the yade-flex law (fuseSpheres) runs as one call,
 //     Ig2_Sphere_Sphere_FlexContactGeom::update and the law's apply, on the spheres' centres,
-//     radii, velocities and angular velocities from the table (80 bytes per body): the same
-//     arithmetic on the same values, without reading bodies, states and shapes or dispatching.
+//     radii, velocities, angular velocities and inverse masses (the onset and release correction's)
+//     from the table (88 bytes per body): the same arithmetic on the same values, without reading
+//     bodies, states and shapes or dispatching.
 // Prefetches never fault, and only interactions of the thread's own block are read ahead (no
 // data race with the thread that owns the next block).
 //
@@ -80,9 +81,11 @@ public:
 	struct SpherePoint {
 		Real x, y, z, r;
 	};
-	/// a body's velocity and angular velocity, beside its SpherePoint (fuseSpheres)
+	/// a body's velocity, angular velocity and inverse mass (0: it cannot move, as
+	/// flexa::ContactSide::invMass has it), beside its SpherePoint (fuseSpheres)
 	struct SphereMotion {
 		Vector3r vel, angVel;
+		Real     invMass;
 	};
 
 private:

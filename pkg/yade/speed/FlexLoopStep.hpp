@@ -187,8 +187,9 @@ public:
 			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
 				if (const State* st = c.state.get()) {
 					flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
-					flexa::prefetch(&st->vel, sizeof(Vector3r));
+					flexa::prefetch(&st->vel, sizeof(Vector3r) + sizeof(Real)); // (and mass)
 					flexa::prefetch(&st->angVel, sizeof(Vector3r));
+					flexa::prefetch(&st->blockedDOFs, sizeof(unsigned));
 				}
 				flexa::prefetch(c.shape.get(), sizeof(Sphere));
 			});
@@ -207,6 +208,8 @@ public:
 			q.r               = static_cast<const Sphere*>(sh)->radius;
 			mv[id].vel        = st->vel;
 			mv[id].angVel     = st->angVel;
+			// (flexa::ContactSide::invMass of a rigid side, for the crossing correction)
+			mv[id].invMass = (!b->isDynamic() || (st->blockedDOFs & State::DOF_XYZ) == State::DOF_XYZ || !(st->mass > 0)) ? Real(0) : 1 / st->mass;
 		}
 		if (apart.readers) {
 			apart.p = p;
@@ -465,7 +468,8 @@ public:
 		FlexContactGeom&   g = static_cast<FlexContactGeom&>(*I->geom);
 		Ig2_Sphere_Sphere_FlexContactGeom::update(scene, g, false, a.r, b.r, Vector3r(a.x, a.y, a.z),
 		        Vector3r(Vector3r(b.x, b.y, b.z) + Vector3r::Zero()), mot[i1].vel, mot[i1].angVel, mot[i2].vel, mot[i2].angVel);
-		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), I.get(), &mot[i1].angVel, &mot[i2].angVel)) endContact(I, e);
+		const Law2_FlexContactGeom_FrictPhys_CundallStrack::KnownSpheres known { &mot[i1].angVel, &mot[i2].angVel, mot[i1].invMass, mot[i2].invMass };
+		if (!fusedLaw->apply(g, static_cast<FrictPhys&>(*I->phys), i1, i2, &known)) endContact(I, e);
 	}
 	// the geometry, physics and law functors of one interaction, as InteractionLoop calls them
 	void runFunctors(const shared_ptr<Interaction>& I, Ended& e)
