@@ -49,8 +49,17 @@ def _lammps(rows):
     return [dict(r, ratio_text=f"{float(r['ratio']):.2f}x ({r['ratio_range']})", over_plain=1 / float(r["yadeflex_over_plain"])) for r in rows]
 
 
+def _grain_kernel(rows):
+    return [dict(r, kernel_text=f"{float(r['kernel_us']):.3f} ({r['kernel_range']})", plugin_text=f"{float(r['plugin_us']):.3f} ({r['plugin_range']})",
+                 lammps_text=f"{float(r['lammps_us']):.3f} ({r['lammps_range']})") for r in rows]
+
+
 # name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
 TABLES = {
+    "grain_kernel": dict(csv="grain_kernel.csv", rows=_grain_kernel, columns=[
+        ("case (one thread)", "case", text), ("kernel µs/particle-step", "kernel_text", text), ("plugin", "plugin_text", text),
+        ("LAMMPS", "lammps_text", text), ("LAMMPS law", "lammps_law", text), ("kernel / LAMMPS", "kernel_over_lammps", times(2)),
+        ("plugin / LAMMPS", "plugin_over_lammps", times(2)), ("plugin / kernel", "plugin_over_kernel", times(2))]),
     "lammps_grains": dict(csv="lammps_grains.csv", rows=_lammps, columns=[
         ("case (one thread)", "case", text), ("yade-flex µs/particle-step", "yadeflex_us_per_particle_step", fixed(3)),
         ("LAMMPS", "lammps_us_per_particle_step", fixed(3)), ("ratio (range)", "ratio_text", text), ("LAMMPS law", "lammps_law", text),

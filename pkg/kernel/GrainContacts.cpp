@@ -1,0 +1,180 @@
+// GrainContacts (GPL-2.0-or-later): see GrainContacts.hpp.
+#include "GrainContacts.hpp"
+
+#include "Contact.hpp"
+#include "Onset.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace flex {
+
+GrainContacts::GrainContacts(const GrainLaw& law)
+        : law_(law)
+{
+	if (!(law.young > 0) || !std::isfinite(law.young)) throw std::invalid_argument("GrainContacts: young must be finite and positive");
+	if (!(law.ksOverKn >= 0) || !std::isfinite(law.ksOverKn)) throw std::invalid_argument("GrainContacts: ksOverKn must be finite and >= 0");
+	if (!(law.tanPhi >= 0) || !std::isfinite(law.tanPhi)) throw std::invalid_argument("GrainContacts: tanPhi must be finite and >= 0");
+	if (!(law.rollingStiffness >= 0) || !(law.rollingFriction >= 0) || !std::isfinite(law.rollingStiffness) || !std::isfinite(law.rollingFriction))
+		throw std::invalid_argument("GrainContacts: rollingStiffness and rollingFriction must be finite and >= 0");
+}
+
+long GrainContacts::follow(const GrainNeighbours& nb)
+{
+	const std::vector<long>& f = nb.first();
+	const std::vector<int>&  s = nb.second();
+	std::vector<State>       next(s.size());
+	long                     lost = 0;
+	const long               nOld = (long)first_.size() - 1, nNew = (long)f.size() - 1;
+	for (long i = 0; i < nOld; ++i) {
+		long k = i < nNew ? f[i] : 0;
+		const long kEnd = i < nNew ? f[i + 1] : 0;
+		for (long o = first_[i]; o < first_[i + 1]; ++o) {
+			if (!state_[o].exists) continue;
+			while (k < kEnd && s[k] < second_[o])
+				++k;
+			if (k < kEnd && s[k] == second_[o])
+				next[k] = state_[o];
+			else
+				++lost;
+		}
+	}
+	first_  = f;
+	second_ = s;
+	state_.swap(next);
+	return lost;
+}
+
+long GrainContacts::contacts() const
+{
+	long c = 0;
+	for (const State& s : state_)
+		c += s.exists;
+	return c;
+}
+
+long GrainContacts::active() const
+{
+	long c = 0, last = -2;
+	for (const State& s : state_)
+		last = std::max(last, s.lastActive);
+	for (const State& s : state_)
+		c += s.exists && s.lastActive == last;
+	return c;
+}
+
+namespace {
+	// One step of the onset and release correction of contact s at overlap d and overlap rate
+	// `rate`, its state continued from the last step or started anew (a contact not followed last
+	// step): the extra normal force on sphere 2, repulsive positive [N]
+	double crossingStepOf(GrainContacts::State& s, long iter, double d, double rate, double dt, double invMass)
+	{
+		if (s.crossIter != iter - 1) s.cross = crossingStart(s.kn, d, rate, dt);
+		s.crossIter = iter;
+		return crossingStep(s.cross, s.kn, d, rate, dt, [&] { return invMass; });
+	}
+} // namespace
+
+void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& sums)
+{
+	const GrainLaw& L     = law_;
+	const long      nList = (long)first_.size() - 1;
+	if (nList != m.n) throw std::invalid_argument("GrainContacts::step: the spheres are not those of the list followed");
+	for (long i = 0; i < nList; ++i) {
+		const Vec3&  x1 = m.pos[i];
+		const double R1 = m.radius[i];
+		for (long k = first_[i]; k < first_[i + 1]; ++k) {
+			const int    j  = second_[k];
+			State&       s  = state_[k];
+			const Vec3&  x2 = m.pos[j];
+			const double R2 = m.radius[j];
+			// geometry (Ig2_Sphere_Sphere_FlexContactGeom::update)
+			const Vec3   d = x2 - x1;
+			const double dist = d.norm(), overlap = R1 + R2 - dist;
+			const bool   isNew = !s.exists;
+			if (isNew) {
+				if (overlap <= 0) continue; // (no contact: nothing to do)
+				s        = State();
+				s.exists = true;
+				// (Ip2_FrictMat_FrictMat_FrictPhys with equal materials)
+				const double E = L.young, V = L.ksOverKn;
+				s.kn           = 2 * E * R1 * E * R2 / (E * R1 + E * R2);
+				s.ks           = 2 * E * R1 * V * E * R2 * V / (E * R1 * V + E * R2 * V);
+				if (!(s.ks == s.ks)) s.ks = 0; // (ksOverKn 0: 0 / 0)
+			}
+			const Vec3 n = dist > 0 ? Vec3(d / dist) : (isNew ? Vec3(Vec3::UnitZ()) : Vec3(s.normal));
+			s.normal     = n;
+			const Vec3 c      = x1 + (R1 - 0.5 * overlap) * n;
+			const Vec3 v1     = m.vel[i] + m.angVel[i].cross(c - x1);
+			const Vec3 v2     = m.vel[j] + m.angVel[j].cross(c - x2);
+			const Vec3 relVel = v2 - v1;
+			const bool own    = overlap > 0;
+			const bool wasActive = s.lastActive == iter - 1;
+			const double Reff    = R1 * R2 / (R1 + R2);
+			const double kr      = L.rollingStiffness > 0 ? L.rollingStiffness * s.ks * Reff * Reff : 0.0;
+			if (!own) {
+				// separated: its springs' energy leaves with it; the correction runs on
+				if (wasActive && L.trackEnergy && s.ks > 0) {
+					sums.friction += 0.5 * s.shear.squaredNorm() / s.ks;
+					if (kr > 0) sums.rolling += 0.5 * s.roll.squaredNorm() / kr;
+				}
+				bool crossingOn = false;
+				if (L.crossing && s.crossIter == iter - 1) {
+					const double cf = crossingStepOf(s, iter, overlap, -n.dot(relVel), dt, m.invMass[i] + m.invMass[j]);
+					if (cf != 0) {
+						const Vec3 F = cf * n;
+						sums.force[i] -= F;
+						sums.torque[i] += (c - x1).cross(Vec3(-F));
+						sums.force[j] += F;
+						sums.torque[j] += (c - x2).cross(F);
+					}
+					crossingOn = !crossingDone(s.cross);
+				}
+				if (!(s.lastActive >= iter - 1 || crossingOn)) s = State(); // (ended)
+				continue;
+			}
+			// (re)starting: no shear, judged as an onset
+			const bool   handover   = !wasActive;
+			const double onsetDepth = handover ? overlap : 0.0;
+			s.lastActive            = iter;
+			if (onsetDepth > 0) {
+				const double approach = std::max(0.0, -n.dot(relVel)) * dt;
+				if (onsetDepth > L.onsetFactor * approach) {
+					++sums.deepOnsets;
+					sums.deepOnsetEnergy += normalSpring(s.kn, onsetDepth, 0, false).energy;
+				}
+			}
+			sums.maxOverlapRatio            = std::max(sums.maxOverlapRatio, overlap / (R1 + R2));
+			const Vec3               shear  = rotateShear(handover ? Vec3(Vec3::Zero()) : s.shear, n);
+			const Vec3               dus    = (relVel - n.dot(relVel) * n) * dt;
+			const FrictionalContact  fc { s.kn, s.ks, L.tanPhi };
+			const NormalSpring       spring = normalSpring(s.kn, overlap, 0, false);
+			const FrictionalResult   r      = frictionalStepWithNormal(fc, spring.force, n, shear, dus);
+			s.shear                         = r.shearForce;
+			const double             cross  = L.crossing ? crossingStepOf(s, iter, overlap, -n.dot(relVel), dt, m.invMass[i] + m.invMass[j]) : 0.0;
+			const Vec3               F      = r.normalForce + r.shearForce + cross * n; // on sphere 2
+			sums.force[i] -= F;
+			sums.torque[i] += (c - x1).cross(Vec3(-F));
+			sums.force[j] += F;
+			sums.torque[j] += (c - x2).cross(F);
+			double rollEnergy = 0;
+			if (kr > 0) {
+				const Vec3         dw = m.angVel[j] - m.angVel[i];
+				const Vec3         dth = (dw - n.dot(dw) * n) * dt;
+				const CappedSpring rs  = cappedSpringStep(kr, L.rollingFriction * Reff * r.normalForce.norm(), rotateShear(s.roll, n), dth);
+				s.roll                 = rs.value;
+				sums.torque[i] -= rs.value;
+				sums.torque[j] += rs.value;
+				rollEnergy = rs.energy;
+				if (L.trackEnergy) sums.rolling += rs.dissipated;
+			}
+			if (L.trackEnergy) {
+				sums.elastic += r.elasticEnergy + rollEnergy;
+				sums.friction += r.frictionWork;
+			}
+		}
+	}
+}
+
+} // namespace flex

@@ -1,0 +1,49 @@
+// The neighbour list of a set of spheres (grains): every pair close enough to touch before any
+// of them moves more than half the skin (GPL-2.0-or-later).
+//
+// A pair (i, j), i < j, is listed when |x_j - x_i| < r_i + r_j + skin. The list stays valid
+// (no contact missed) while every sphere has moved less than skin / 2 from where it was at the
+// build: two spheres then close their gap by less than the skin. The list is built by binning
+// the centres into cubic cells of side at least 2 r_max + skin (every listed pair then lies in
+// the same or adjacent cells), a counting sort of the spheres by cell, and a scan of the 27
+// cells around each sphere. Pairs are stored sphere by sphere (CSR: the partners of i are
+// second[first[i] .. first[i + 1]), ascending), so that a contact's state kept beside its pair
+// can be carried from one list to the next by a merge (GrainContacts::follow).
+#pragma once
+#include "Types.hpp"
+
+#include <vector>
+
+namespace flex {
+
+class GrainNeighbours {
+public:
+	/// skin > 0 [m]
+	explicit GrainNeighbours(double skin);
+
+	/// Whether the list must be built again before the next contact pass: no build yet, another
+	/// number of spheres, or a sphere moved skin / 2 or more from its place at the last build.
+	bool stale(const Vec3* pos, long n) const;
+	/// The list of n spheres at positions pos with radii radius (all finite, radius > 0).
+	void build(const Vec3* pos, const double* radius, long n);
+
+	double skin() const { return skin_; }
+	long   spheres() const { return (long)first_.size() - 1; }
+	long   pairs() const { return (long)second_.size(); }
+	long   builds() const { return builds_; }
+	/// CSR: partners of i are second()[first()[i] .. first()[i + 1]), ascending, each > i.
+	const std::vector<long>& first() const { return first_; }
+	const std::vector<int>&  second() const { return second_; }
+
+private:
+	double            skin_;
+	long              builds_ = 0;
+	std::vector<Vec3> at_; // positions at the last build
+	std::vector<long> first_ { 0 };
+	std::vector<int>  second_;
+	// the binning's work arrays (kept to avoid allocating at each build)
+	std::vector<long> cellOf_, cellStart_;
+	std::vector<int>  sorted_;
+};
+
+} // namespace flex
