@@ -1,4 +1,4 @@
-# Benchmark: the module's gravel bed at rest, stepped by the grains' kernel on arrays of its own
+# Benchmark: the module's gravel bed, stepped by the grains' kernel on arrays of its own
 # (pkg/kernel/GrainNeighbours, GrainContacts; driver bench/grain_kernel.cpp, no YADE), by our
 # plugin in YADE's containers, and by LAMMPS; one thread (issue 59) (GPL-2.0-or-later).
 #
@@ -15,12 +15,15 @@
 # leap-frog integration without orientations (as LAMMPS's nve/sphere). Its floor and cylinder are
 # plain springs (grain_kernel.cpp), and it has no element, facet or ownership machinery: what it
 # measures is the cost of the grain-grain contacts when their data are streams in pair order
-# instead of YADE's heap objects. The bed only (the 800 kg sphere of lammps_grains.py's impact
-# needs a neighbour list for very unequal sizes, which the kernel's cells are not).
+# instead of YADE's heap objects. Cases: "rest", the bed as settled; "impact", lammps_grains.py's
+# 800 kg sphere (its sphere_of) at 6.26 m/s touching the bed when the timing starts (the kernel
+# pairs it with every grain directly, not by cells: GrainNeighbours.hpp).
 #
 # Engines, alternated round by round (the order rotated): kernel, kernel_norol (rolling
-# stiffness 0), flex, flex_norol (our plugin, dt held), lmp_gran (LAMMPS granular + rolling sds),
-# lmp_hooke (LAMMPS gran/hooke/history). Microseconds per particle-step, medians and ranges.
+# stiffness 0), kernel_j2 (kernel on two threads: each runs half the pairs into sums of its
+# own), flex, flex_norol (our plugin, dt held), lmp_gran (LAMMPS granular + rolling sds),
+# lmp_hooke (LAMMPS gran/hooke/history); all on one thread but kernel_j2. Microseconds per
+# particle-step (wall clock), medians and ranges.
 # Writes bench/results/grain_kernel[_quick].csv and grain_kernel[_quick]_raw.csv, prints a table.
 import argparse
 import csv
@@ -41,13 +44,13 @@ from yade import O  # noqa: E402
 from yadeflex.module import ModuleParams  # noqa: E402
 from machine import machine_line  # noqa: E402
 
-ENGINES = ["kernel", "kernel_norol", "flex", "flex_norol", "lmp_gran", "lmp_hooke"]
+ENGINES = ["kernel", "kernel_norol", "kernel_j2", "flex", "flex_norol", "lmp_gran", "lmp_hooke"]
 PAIRS = (("rolling", "kernel", "flex", "lmp_gran"), ("no rolling", "kernel_norol", "flex_norol", "lmp_hooke"))
 
 
 def parse():
     me = next((k for k, a in enumerate(sys.argv) if a.endswith("grain_kernel.py")), 0)
-    ap = argparse.ArgumentParser(prog="grain_kernel.py", description="The gravel bed at rest: the grains' kernel, our plugin and LAMMPS, one thread.")
+    ap = argparse.ArgumentParser(prog="grain_kernel.py", description="The gravel bed: the grains' kernel, our plugin and LAMMPS, one thread (and the kernel on two).")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--warmup", type=int, default=200)
@@ -74,7 +77,7 @@ def lammps_args(a):
     return LG, la
 
 
-def run_kernel(a, la, p, grains, rolling, workdir):
+def run_kernel(a, la, p, grains, rolling, case, workdir, threads=1):
     import lammps_grains as LG
     pre = p.preset()
     path = os.path.join(workdir, "grains.txt")
@@ -86,13 +89,20 @@ def run_kernel(a, la, p, grains, rolling, workdir):
     opts = {"steps": a.steps, "warmup": a.warmup, "dt": la.dt, "young": pre["young"], "ks-over-kn": 0.3,
             "tan-phi": math.tan(math.radians(pre["friction_deg"])), "rolling-stiffness": 1.0 if rolling else 0.0,
             "rolling-friction": pre["rolling_friction"] if rolling else 0.0, "density": pre["density"], "gravity": 9.81,
-            "cylinder": LG.r_in_of(p, grains), "skin": 0.016}
+            "cylinder": LG.r_in_of(p, grains), "skin": 0.016, "threads": threads}
+    if case == "impact":
+        R, z, dens = LG.sphere_of(la, grains, la.dt)
+        opts.update({"imp-radius": R, "imp-z": z, "imp-speed": la.speed, "imp-density": dens})
     cmd = [a.binary, path] + [x for k, v in opts.items() for x in (f"--{k}", repr(float(v)))]
-    out = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    out = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS=str(threads)))
     if out.returncode != 0:
         raise RuntimeError(f"grain_kernel_bench failed: {out.stderr.strip()}")
     f = next(s for s in out.stdout.splitlines() if s.startswith("GK_RESULT")).split()
-    return dict(us=float(f[1]), contacts_pp=int(f[2]) / len(grains), pairs=int(f[3]), builds=int(f[4]), ke=float(f[5]), vmax=float(f[6]), n=len(grains))
+    n = len(grains) + (case == "impact")
+    r = dict(us=float(f[1]), contacts_pp=int(f[2]) / len(grains), pairs=int(f[3]), builds=int(f[4]), ke=float(f[5]), vmax=float(f[6]), n=n)
+    if case == "impact":
+        r.update(peak_kN=float(f[10]), depth=float(f[11]), v_end=float(f[12]))
+    return r
 
 
 def main():
@@ -107,32 +117,37 @@ def main():
     tag = "_quick" if a.quick else ""
     os.makedirs(a.out, exist_ok=True)
     line0 = machine_line(yade.config.version, O.numThreads)
-    print(f"grain_kernel: {len(grains)} grains of {os.path.basename(f)}, the bed at rest, {a.rounds} rounds of {a.steps} steps\n  start: {line0.strip()}", flush=True)
+    print(f"grain_kernel: {len(grains)} grains of {os.path.basename(f)}, {a.rounds} rounds of {a.steps} steps\n  start: {line0.strip()}", flush=True)
     workdir = tempfile.mkdtemp(prefix="grain_kernel_")
     raw = []
     for rnd in range(a.rounds):
         order = ENGINES[rnd % len(ENGINES):] + ENGINES[:rnd % len(ENGINES)]
-        for e in order:
-            t0 = time.time()
-            if e.startswith("kernel"):
-                r = run_kernel(a, la, p, grains, e == "kernel", workdir)
-            elif e.startswith("lmp"):
-                r = LG.run_lammps(la, p, grains, 1, "rest", e, kn, workdir, a.steps)
-            else:
-                r = LG.run_yade(la, p, grains, e, 1, "rest", a.steps)
-            r.update(engine=e, round=rnd)
-            raw.append(r)
-            print(f"  round {rnd} {e:12s} {r['us']:7.3f} us/particle-step, contacts/grain {r['contacts_pp']:.2f}, KE {r['ke']:.3g} J, "
-                  f"vmax {r['vmax']:.3g} m/s  [{time.time() - t0:.0f} s]", flush=True)
+        for case in ("rest", "impact"):
+            for e in order:
+                t0 = time.time()
+                if e.startswith("kernel"):
+                    r = run_kernel(a, la, p, grains, e != "kernel_norol", case, workdir, 2 if e == "kernel_j2" else 1)
+                elif e.startswith("lmp"):
+                    r = LG.run_lammps(la, p, grains, 1, case, e, kn, workdir, a.steps)
+                else:
+                    r = LG.run_yade(la, p, grains, e, 1, case, a.steps)
+                r.update(engine=e, round=rnd, case=case)
+                raw.append(r)
+                extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm" if case == "impact" else ""
+                print(f"  round {rnd} {case:6s} {e:12s} {r['us']:7.3f} us/particle-step, contacts/grain {r['contacts_pp']:.2f}, KE {r['ke']:.3g} J, "
+                      f"vmax {r['vmax']:.3g} m/s{extra}  [{time.time() - t0:.0f} s]", flush=True)
     line1 = machine_line(yade.config.version, O.numThreads)
 
-    def pick(e, key="us"):
-        return [r[key] for r in raw if r["engine"] == e and key in r]
-
     rows = []
-    for what, kern, flex, lmp in PAIRS:
+    for case, what, kern, flex, lmp in [(c,) + q for c in ("rest", "impact") for q in PAIRS]:
+        def pick(e, key="us"):
+            return [r[key] for r in raw if r["engine"] == e and r["case"] == case and key in r]
+
+        def med(e, key, scale=1.0):
+            v = pick(e, key)
+            return round(scale * statistics.median(v), 1) if v else ""
         k, y, m = pick(kern), pick(flex), pick(lmp)
-        rows.append(dict(case=f"{len(grains)} grains at rest, {what}", kernel_us=round(statistics.median(k), 4), kernel_range="%.4g-%.4g" % (min(k), max(k)),
+        rows.append(dict(case=f"{len(grains)} grains, {case}, {what}", kernel_us=round(statistics.median(k), 4), kernel_range="%.4g-%.4g" % (min(k), max(k)),
                          plugin_us=round(statistics.median(y), 4), plugin_range="%.4g-%.4g" % (min(y), max(y)),
                          lammps_us=round(statistics.median(m), 4), lammps_range="%.4g-%.4g" % (min(m), max(m)),
                          kernel_over_lammps=round(statistics.median(k) / statistics.median(m), 3),
@@ -142,20 +157,28 @@ def main():
                          contacts_pp_plugin=round(statistics.median(pick(flex, "contacts_pp")), 3),
                          contacts_pp_lammps=round(statistics.median(pick(lmp, "contacts_pp")), 3),
                          ke_end_kernel_J="%.3g" % statistics.median(pick(kern, "ke")), ke_end_plugin_J="%.3g" % statistics.median(pick(flex, "ke")),
-                         ke_end_lammps_J="%.3g" % statistics.median(pick(lmp, "ke")), lammps_law=LG.LABELS[lmp], steps=a.steps, rounds=a.rounds, dt=la.dt))
+                         ke_end_lammps_J="%.3g" % statistics.median(pick(lmp, "ke")),
+                         peak_kN_kernel=med(kern, "peak_kN"), peak_kN_plugin=med(flex, "peak_kN"), peak_kN_lammps=med(lmp, "peak_kN"),
+                         depth_mm_kernel=med(kern, "depth", 1e3), depth_mm_plugin=med(flex, "depth", 1e3), depth_mm_lammps=med(lmp, "depth", 1e3),
+                         kernel_two_threads_speedup=round(statistics.median(k) / statistics.median(pick("kernel_j2")), 3) if kern == "kernel" else "",
+                         lammps_law=LG.LABELS[lmp], steps=a.steps, rounds=a.rounds, dt=la.dt))
     print(f"\nus per particle-step, median (range) of {a.rounds} alternated rounds, one thread")
-    print(f"{'case':34s} {'kernel':>20s} {'plugin':>20s} {'LAMMPS':>20s} {'kernel/LAMMPS':>14s} {'plugin/LAMMPS':>14s} {'plugin/kernel':>14s}")
+    print(f"{'case':38s} {'kernel':>20s} {'plugin':>20s} {'LAMMPS':>20s} {'kernel/LAMMPS':>14s} {'plugin/LAMMPS':>14s} {'plugin/kernel':>14s}")
     for r in rows:
-        print(f"{r['case']:34s} {r['kernel_us']:7.3f} ({r['kernel_range']:>11s}) {r['plugin_us']:7.3f} ({r['plugin_range']:>11s}) {r['lammps_us']:7.3f} ({r['lammps_range']:>11s}) "
+        print(f"{r['case']:38s} {r['kernel_us']:7.3f} ({r['kernel_range']:>11s}) {r['plugin_us']:7.3f} ({r['plugin_range']:>11s}) {r['lammps_us']:7.3f} ({r['lammps_range']:>11s}) "
               f"{r['kernel_over_lammps']:14.2f} {r['plugin_over_lammps']:14.2f} {r['plugin_over_kernel']:14.2f}")
-    print("contacts/grain kernel/plugin/LAMMPS (the plugin's count includes the walls, LAMMPS's does not): "
-          + "; ".join(f"{r['contacts_pp_kernel']:.2f}/{r['contacts_pp_plugin']:.2f}/{r['contacts_pp_lammps']:.2f}" for r in rows))
+    print("\nphysics (medians), kernel/plugin/LAMMPS: contacts per grain (the plugin's count includes the walls, LAMMPS's does not); "
+          "the sphere's peak force [kN] and depth [mm]")
+    for r in rows:
+        print(f"{r['case']:38s} {r['contacts_pp_kernel']:.2f}/{r['contacts_pp_plugin']:.2f}/{r['contacts_pp_lammps']:.2f}"
+              + (f"; peak {r['peak_kN_kernel']}/{r['peak_kN_plugin']}/{r['peak_kN_lammps']} kN, depth {r['depth_mm_kernel']}/{r['depth_mm_plugin']}/{r['depth_mm_lammps']} mm"
+                 if r["peak_kN_kernel"] != "" else ""))
     path = os.path.join(a.out, f"grain_kernel{tag}.csv")
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    keys = ["engine", "round", "us", "n", "contacts_pp", "ke", "vmax", "pairs", "builds", "steps", "dt"]
+    keys = ["case", "engine", "round", "us", "n", "contacts_pp", "ke", "vmax", "pairs", "builds", "peak_kN", "depth", "v_end", "steps", "dt"]
     with open(os.path.join(a.out, f"grain_kernel{tag}_raw.csv"), "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()

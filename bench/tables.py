@@ -59,7 +59,8 @@ TABLES = {
     "grain_kernel": dict(csv="grain_kernel.csv", rows=_grain_kernel, columns=[
         ("case (one thread)", "case", text), ("kernel µs/particle-step", "kernel_text", text), ("plugin", "plugin_text", text),
         ("LAMMPS", "lammps_text", text), ("LAMMPS law", "lammps_law", text), ("kernel / LAMMPS", "kernel_over_lammps", times(2)),
-        ("plugin / LAMMPS", "plugin_over_lammps", times(2)), ("plugin / kernel", "plugin_over_kernel", times(2))]),
+        ("plugin / LAMMPS", "plugin_over_lammps", times(2)), ("plugin / kernel", "plugin_over_kernel", times(2)),
+        ("kernel's speed-up on two threads", "kernel_two_threads_speedup", lambda v: f"{float(v):.2f}x" if v else "")]),
     "lammps_grains": dict(csv="lammps_grains.csv", rows=_lammps, columns=[
         ("case (one thread)", "case", text), ("yade-flex µs/particle-step", "yadeflex_us_per_particle_step", fixed(3)),
         ("LAMMPS", "lammps_us_per_particle_step", fixed(3)), ("ratio (range)", "ratio_text", text), ("LAMMPS law", "lammps_law", text),

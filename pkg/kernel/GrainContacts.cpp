@@ -28,7 +28,7 @@ long GrainContacts::follow(const GrainNeighbours& nb)
 	long                     lost = 0;
 	const long               nOld = (long)first_.size() - 1, nNew = (long)f.size() - 1;
 	for (long i = 0; i < nOld; ++i) {
-		long k = i < nNew ? f[i] : 0;
+		long       k    = i < nNew ? f[i] : 0;
 		const long kEnd = i < nNew ? f[i + 1] : 0;
 		for (long o = first_[i]; o < first_[i + 1]; ++o) {
 			if (!state_[o].exists) continue;
@@ -76,12 +76,28 @@ namespace {
 	}
 } // namespace
 
-void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& sums)
+long GrainContacts::splitAt(int k, int parts) const
+{
+	const long n = (long)first_.size() - 1;
+	if (k <= 0) return 0;
+	if (k >= parts) return n;
+	const long target = (long)((double)first_[n] * k / parts);
+	return std::lower_bound(first_.begin(), first_.end() - 1, target) - first_.begin();
+}
+
+void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& sums, long begin, long end)
 {
 	const GrainLaw& L     = law_;
 	const long      nList = (long)first_.size() - 1;
 	if (nList != m.n) throw std::invalid_argument("GrainContacts::step: the spheres are not those of the list followed");
-	for (long i = 0; i < nList; ++i) {
+	if (begin < 0 || end > nList || begin > end) throw std::invalid_argument("GrainContacts::step: a range of spheres outside the list");
+	// the sums in locals, added to `sums` once (parts on other threads: their sums may share a
+	// cache line with these)
+	Vec3* const force   = sums.force;
+	Vec3* const torque  = sums.torque;
+	double      elastic = 0, friction = 0, rolling = 0, deepEnergy = 0, maxRatio = sums.maxOverlapRatio;
+	long        deep = 0;
+	for (long i = begin; i < end; ++i) {
 		const Vec3&  x1 = m.pos[i];
 		const double R1 = m.radius[i];
 		for (long k = first_[i]; k < first_[i + 1]; ++k) {
@@ -90,7 +106,7 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 			const Vec3&  x2 = m.pos[j];
 			const double R2 = m.radius[j];
 			// geometry (Ig2_Sphere_Sphere_FlexContactGeom::update)
-			const Vec3   d = x2 - x1;
+			const Vec3   d    = x2 - x1;
 			const double dist = d.norm(), overlap = R1 + R2 - dist;
 			const bool   isNew = !s.exists;
 			if (isNew) {
@@ -99,35 +115,35 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 				s.exists = true;
 				// (Ip2_FrictMat_FrictMat_FrictPhys with equal materials)
 				const double E = L.young, V = L.ksOverKn;
-				s.kn           = 2 * E * R1 * E * R2 / (E * R1 + E * R2);
-				s.ks           = 2 * E * R1 * V * E * R2 * V / (E * R1 * V + E * R2 * V);
+				s.kn = 2 * E * R1 * E * R2 / (E * R1 + E * R2);
+				s.ks = 2 * E * R1 * V * E * R2 * V / (E * R1 * V + E * R2 * V);
 				if (!(s.ks == s.ks)) s.ks = 0; // (ksOverKn 0: 0 / 0)
 			}
-			const Vec3 n = dist > 0 ? Vec3(d / dist) : (isNew ? Vec3(Vec3::UnitZ()) : Vec3(s.normal));
-			s.normal     = n;
-			const Vec3 c      = x1 + (R1 - 0.5 * overlap) * n;
-			const Vec3 v1     = m.vel[i] + m.angVel[i].cross(c - x1);
-			const Vec3 v2     = m.vel[j] + m.angVel[j].cross(c - x2);
-			const Vec3 relVel = v2 - v1;
-			const bool own    = overlap > 0;
-			const bool wasActive = s.lastActive == iter - 1;
-			const double Reff    = R1 * R2 / (R1 + R2);
-			const double kr      = L.rollingStiffness > 0 ? L.rollingStiffness * s.ks * Reff * Reff : 0.0;
+			const Vec3 n           = dist > 0 ? Vec3(d / dist) : (isNew ? Vec3(Vec3::UnitZ()) : Vec3(s.normal));
+			s.normal               = n;
+			const Vec3   c         = x1 + (R1 - 0.5 * overlap) * n;
+			const Vec3   v1        = m.vel[i] + m.angVel[i].cross(c - x1);
+			const Vec3   v2        = m.vel[j] + m.angVel[j].cross(c - x2);
+			const Vec3   relVel    = v2 - v1;
+			const bool   own       = overlap > 0;
+			const bool   wasActive = s.lastActive == iter - 1;
+			const double Reff      = R1 * R2 / (R1 + R2);
+			const double kr        = L.rollingStiffness > 0 ? L.rollingStiffness * s.ks * Reff * Reff : 0.0;
 			if (!own) {
 				// separated: its springs' energy leaves with it; the correction runs on
 				if (wasActive && L.trackEnergy && s.ks > 0) {
-					sums.friction += 0.5 * s.shear.squaredNorm() / s.ks;
-					if (kr > 0) sums.rolling += 0.5 * s.roll.squaredNorm() / kr;
+					friction += 0.5 * s.shear.squaredNorm() / s.ks;
+					if (kr > 0) rolling += 0.5 * s.roll.squaredNorm() / kr;
 				}
 				bool crossingOn = false;
 				if (L.crossing && s.crossIter == iter - 1) {
 					const double cf = crossingStepOf(s, iter, overlap, -n.dot(relVel), dt, m.invMass[i] + m.invMass[j]);
 					if (cf != 0) {
 						const Vec3 F = cf * n;
-						sums.force[i] -= F;
-						sums.torque[i] += (c - x1).cross(Vec3(-F));
-						sums.force[j] += F;
-						sums.torque[j] += (c - x2).cross(F);
+						force[i] -= F;
+						torque[i] += (c - x1).cross(Vec3(-F));
+						force[j] += F;
+						torque[j] += (c - x2).cross(F);
 					}
 					crossingOn = !crossingDone(s.cross);
 				}
@@ -141,40 +157,46 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 			if (onsetDepth > 0) {
 				const double approach = std::max(0.0, -n.dot(relVel)) * dt;
 				if (onsetDepth > L.onsetFactor * approach) {
-					++sums.deepOnsets;
-					sums.deepOnsetEnergy += normalSpring(s.kn, onsetDepth, 0, false).energy;
+					++deep;
+					deepEnergy += normalSpring(s.kn, onsetDepth, 0, false).energy;
 				}
 			}
-			sums.maxOverlapRatio            = std::max(sums.maxOverlapRatio, overlap / (R1 + R2));
-			const Vec3               shear  = rotateShear(handover ? Vec3(Vec3::Zero()) : s.shear, n);
-			const Vec3               dus    = (relVel - n.dot(relVel) * n) * dt;
-			const FrictionalContact  fc { s.kn, s.ks, L.tanPhi };
-			const NormalSpring       spring = normalSpring(s.kn, overlap, 0, false);
-			const FrictionalResult   r      = frictionalStepWithNormal(fc, spring.force, n, shear, dus);
-			s.shear                         = r.shearForce;
-			const double             cross  = L.crossing ? crossingStepOf(s, iter, overlap, -n.dot(relVel), dt, m.invMass[i] + m.invMass[j]) : 0.0;
-			const Vec3               F      = r.normalForce + r.shearForce + cross * n; // on sphere 2
-			sums.force[i] -= F;
-			sums.torque[i] += (c - x1).cross(Vec3(-F));
-			sums.force[j] += F;
-			sums.torque[j] += (c - x2).cross(F);
+			maxRatio                      = std::max(maxRatio, overlap / (R1 + R2));
+			const Vec3              shear = rotateShear(handover ? Vec3(Vec3::Zero()) : s.shear, n);
+			const Vec3              dus   = (relVel - n.dot(relVel) * n) * dt;
+			const FrictionalContact fc { s.kn, s.ks, L.tanPhi };
+			const NormalSpring      spring = normalSpring(s.kn, overlap, 0, false);
+			const FrictionalResult  r      = frictionalStepWithNormal(fc, spring.force, n, shear, dus);
+			s.shear                        = r.shearForce;
+			const double cross             = L.crossing ? crossingStepOf(s, iter, overlap, -n.dot(relVel), dt, m.invMass[i] + m.invMass[j]) : 0.0;
+			const Vec3   F                 = r.normalForce + r.shearForce + cross * n; // on sphere 2
+			force[i] -= F;
+			torque[i] += (c - x1).cross(Vec3(-F));
+			force[j] += F;
+			torque[j] += (c - x2).cross(F);
 			double rollEnergy = 0;
 			if (kr > 0) {
-				const Vec3         dw = m.angVel[j] - m.angVel[i];
+				const Vec3         dw  = m.angVel[j] - m.angVel[i];
 				const Vec3         dth = (dw - n.dot(dw) * n) * dt;
 				const CappedSpring rs  = cappedSpringStep(kr, L.rollingFriction * Reff * r.normalForce.norm(), rotateShear(s.roll, n), dth);
 				s.roll                 = rs.value;
-				sums.torque[i] -= rs.value;
-				sums.torque[j] += rs.value;
+				torque[i] -= rs.value;
+				torque[j] += rs.value;
 				rollEnergy = rs.energy;
-				if (L.trackEnergy) sums.rolling += rs.dissipated;
+				if (L.trackEnergy) rolling += rs.dissipated;
 			}
 			if (L.trackEnergy) {
-				sums.elastic += r.elasticEnergy + rollEnergy;
-				sums.friction += r.frictionWork;
+				elastic += r.elasticEnergy + rollEnergy;
+				friction += r.frictionWork;
 			}
 		}
 	}
+	sums.elastic += elastic;
+	sums.friction += friction;
+	sums.rolling += rolling;
+	sums.deepOnsets += deep;
+	sums.deepOnsetEnergy += deepEnergy;
+	sums.maxOverlapRatio = maxRatio;
 }
 
 } // namespace flex

@@ -67,23 +67,30 @@ public:
 	/// list is built before any sphere moves half the skin).
 	long follow(const GrainNeighbours& nb);
 	/// One step at iteration iter (consecutive steps: iter + 1) of length dt [s].
-	void step(const GrainMotion& m, long iter, double dt, GrainSums& sums);
+	void step(const GrainMotion& m, long iter, double dt, GrainSums& sums) { step(m, iter, dt, sums, 0, (long)first_.size() - 1); }
+	/// The pairs of spheres [begin, end) only (their first sphere in that range): parts that
+	/// cover the spheres, run at once on several threads each with sums of its own, together
+	/// make one step (each pair's state is written by its part only).
+	void step(const GrainMotion& m, long iter, double dt, GrainSums& sums, long begin, long end);
+	/// The first sphere of part k of `parts` (k = parts: the number of spheres), the parts
+	/// holding about equal numbers of pairs.
+	long splitAt(int k, int parts) const;
 
 	/// Contacts alive (touching, or kept past their separation for the correction).
 	long contacts() const;
 	/// Touching at the last step.
-	long active() const;
+	long            active() const;
 	const GrainLaw& law() const { return law_; }
 
 	/// A contact's state (by pair index).
 	struct State {
-		Vec3   shear  = Vec3::Zero(); ///< shear force on sphere 2 [N]
-		Vec3   roll   = Vec3::Zero(); ///< rolling moment on sphere 2 [N m]
-		Vec3   normal = Vec3::UnitZ();
+		Vec3          shear  = Vec3::Zero(); ///< shear force on sphere 2 [N]
+		Vec3          roll   = Vec3::Zero(); ///< rolling moment on sphere 2 [N m]
+		Vec3          normal = Vec3::UnitZ();
 		double        kn = 0, ks = 0;
-		CrossingState cross;                             ///< the onset and release correction's
+		CrossingState cross;                           ///< the onset and release correction's
 		long          crossIter = -2, lastActive = -2; ///< the last steps it was updated / touching
-		bool          exists    = false;
+		bool          exists = false;
 	};
 	const std::vector<State>& states() const { return state_; }
 

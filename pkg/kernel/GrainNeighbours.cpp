@@ -29,15 +29,24 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 	second_.clear();
 	++builds_;
 	if (n == 0) return;
+	// the spheres much larger than the rest (kLargeRatio x the median radius) are paired with
+	// every sphere directly; the others go into cells sized by the largest of them
+	std::vector<double> r(radius, radius + n);
+	std::nth_element(r.begin(), r.begin() + n / 2, r.end());
+	const double large = kLargeRatio * r[n / 2];
+	large_.clear();
 	Vec3   lo = pos[0], hi = pos[0];
 	double rMax = 0;
 	for (long i = 0; i < n; ++i) {
-		lo   = lo.cwiseMin(pos[i]);
-		hi   = hi.cwiseMax(pos[i]);
-		rMax = std::max(rMax, radius[i]);
+		lo = lo.cwiseMin(pos[i]);
+		hi = hi.cwiseMax(pos[i]);
+		if (radius[i] > large)
+			large_.push_back((int)i);
+		else
+			rMax = std::max(rMax, radius[i]);
 	}
 	// cells of side h >= 2 rMax + skin; no more than about 8 cells per sphere (a sparse set)
-	double     h = 2 * rMax + skin_;
+	double     h    = 2 * rMax + skin_;
 	const Vec3 span = hi - lo;
 	long       nc[3];
 	for (;;) {
@@ -46,7 +55,7 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 		if ((double)nc[0] * nc[1] * nc[2] <= 8.0 * n + 27) break;
 		h *= 2;
 	}
-	const long cells = nc[0] * nc[1] * nc[2];
+	const long cells     = nc[0] * nc[1] * nc[2];
 	auto       cellIndex = [&](const Vec3& x, long c[3]) {
                 for (int a = 0; a < 3; ++a)
                         c[a] = std::min(nc[a] - 1, std::max(0L, (long)std::floor((x[a] - lo[a]) / h)));
@@ -56,8 +65,8 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 	for (long i = 0; i < n; ++i) {
 		long c[3];
 		cellIndex(pos[i], c);
-		cellOf_[i] = (c[0] * nc[1] + c[1]) * nc[2] + c[2];
-		++cellStart_[cellOf_[i] + 1];
+		cellOf_[i] = radius[i] > large ? cells : (c[0] * nc[1] + c[1]) * nc[2] + c[2]; // (large: in no cell)
+		if (cellOf_[i] < cells) ++cellStart_[cellOf_[i] + 1];
 	}
 	for (long c = 0; c < cells; ++c)
 		cellStart_[c + 1] += cellStart_[c];
@@ -65,11 +74,24 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 	{
 		std::vector<long> fill(cellStart_.begin(), cellStart_.end() - 1);
 		for (long i = 0; i < n; ++i)
-			sorted_[fill[cellOf_[i]]++] = (int)i;
+			if (cellOf_[i] < cells) sorted_[fill[cellOf_[i]]++] = (int)i;
 	}
+	const auto near = [&](long i, int j) {
+		const double reach = radius[i] + radius[j] + skin_;
+		return (pos[j] - pos[i]).squaredNorm() < reach * reach;
+	};
 	std::vector<int> mine;
 	for (long i = 0; i < n; ++i) {
 		mine.clear();
+		if (cellOf_[i] == cells) { // a large sphere: every sphere after it
+			for (long j = i + 1; j < n; ++j)
+				if (near(i, (int)j)) mine.push_back((int)j);
+			second_.insert(second_.end(), mine.begin(), mine.end());
+			first_[i + 1] = (long)second_.size();
+			continue;
+		}
+		for (int j : large_)
+			if (j > i && near(i, j)) mine.push_back(j);
 		long c[3];
 		cellIndex(pos[i], c);
 		for (long dx = -1; dx <= 1; ++dx)
@@ -80,9 +102,7 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 					const long cell = (x * nc[1] + y) * nc[2] + z;
 					for (long k = cellStart_[cell]; k < cellStart_[cell + 1]; ++k) {
 						const int j = sorted_[k];
-						if (j <= i) continue;
-						const double reach = radius[i] + radius[j] + skin_;
-						if ((pos[j] - pos[i]).squaredNorm() < reach * reach) mine.push_back(j);
+						if (j > i && near(i, j)) mine.push_back(j);
 					}
 				}
 		std::sort(mine.begin(), mine.end());

@@ -6,7 +6,10 @@
 // build: two spheres then close their gap by less than the skin. The list is built by binning
 // the centres into cubic cells of side at least 2 r_max + skin (every listed pair then lies in
 // the same or adjacent cells), a counting sort of the spheres by cell, and a scan of the 27
-// cells around each sphere. Pairs are stored sphere by sphere (CSR: the partners of i are
+// cells around each sphere. A few spheres much larger than the rest (more than kLargeRatio times
+// the median radius: a boulder on a bed) are left out of the cells, which would otherwise be sized
+// by them, and paired with every sphere directly (LAMMPS's `multi` does the same by size classes):
+// their pairs cost O(n) each per build. Pairs are stored sphere by sphere (CSR: the partners of i are
 // second[first[i] .. first[i + 1]), ascending), so that a contact's state kept beside its pair
 // can be carried from one list to the next by a merge (GrainContacts::follow).
 #pragma once
@@ -18,6 +21,8 @@ namespace flex {
 
 class GrainNeighbours {
 public:
+	/// A sphere of a radius above this times the median radius is paired directly, not by cells.
+	static constexpr double kLargeRatio = 4;
 	/// skin > 0 [m]
 	explicit GrainNeighbours(double skin);
 
@@ -43,7 +48,7 @@ private:
 	std::vector<int>  second_;
 	// the binning's work arrays (kept to avoid allocating at each build)
 	std::vector<long> cellOf_, cellStart_;
-	std::vector<int>  sorted_;
+	std::vector<int>  sorted_, large_;
 };
 
 } // namespace flex

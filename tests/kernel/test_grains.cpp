@@ -38,7 +38,7 @@ Grains randomGrains(long n, unsigned seed)
 	Grains                                 g;
 	for (long i = 0; i < n; ++i)
 		g.add(Vec3(0.6 * u(gen), 0.6 * u(gen), 0.6 * u(gen)), 0.03 + 0.03 * u(gen), Vec3(u(gen) - 0.5, u(gen) - 0.5, u(gen) - 0.5),
-		      Vec3(u(gen) - 0.5, u(gen) - 0.5, u(gen) - 0.5) * 10, 1 / (1 + u(gen)));
+		        Vec3(u(gen) - 0.5, u(gen) - 0.5, u(gen) - 0.5) * 10, 1 / (1 + u(gen)));
 	return g;
 }
 struct Sums {
@@ -90,6 +90,35 @@ TEST(GrainNeighbours, ListsEveryPairWithinReachOnce)
 	}
 }
 
+// A boulder among grains (radius over kLargeRatio times the median) is paired directly, not by
+// cells: the list is still every pair within reach, and the cells stay sized by the grains.
+TEST(GrainNeighbours, LargeSpheresArePairedDirectly)
+{
+	Grains g = randomGrains(500, 5);
+	g.add(Vec3(0.3, 0.3, 0.3), 0.25);                       // (its index last)
+	g.pos.insert(g.pos.begin() + 100, Vec3(0.1, 0.5, 0.2)); // one in the middle of the indices
+	g.radius.insert(g.radius.begin() + 100, 0.3);
+	const long      n = (long)g.pos.size();
+	GrainNeighbours nb(0.016);
+	nb.build(g.pos.data(), g.radius.data(), n);
+	std::set<std::pair<int, int>> listed, all;
+	for (long i = 0; i < n; ++i)
+		for (long k = nb.first()[i]; k < nb.first()[i + 1]; ++k) {
+			if (k > nb.first()[i]) EXPECT_GT(nb.second()[k], nb.second()[k - 1]);
+			listed.insert({ (int)i, nb.second()[k] });
+		}
+	for (int i = 0; i < n; ++i)
+		for (int j = i + 1; j < n; ++j) {
+			const double reach = g.radius[i] + g.radius[j] + 0.016;
+			if ((g.pos[j] - g.pos[i]).squaredNorm() < reach * reach) all.insert({ i, j });
+		}
+	EXPECT_EQ(listed, all);
+	long withLarge = 0;
+	for (const auto& p : all)
+		withLarge += p.first == 100 || p.second == n - 1;
+	EXPECT_GT(withLarge, 50);
+}
+
 TEST(GrainNeighbours, StaleOnceASphereMovesHalfTheSkin)
 {
 	Grains          g = randomGrains(50, 4);
@@ -109,7 +138,7 @@ TEST(GrainNeighbours, StaleOnceASphereMovesHalfTheSkin)
 // torque, energy 1/2 kn d^2; the same at every step (the correction leaves a steady contact alone).
 TEST(GrainContacts, SpringAtRest)
 {
-	Grains g;
+	Grains       g;
 	const double r1 = 0.04, r2 = 0.06, d = 1e-4;
 	g.add(Vec3(0, 0, 0), r1);
 	g.add(Vec3(r1 + r2 - d, 0, 0), r2);
@@ -295,7 +324,7 @@ TEST(GrainContacts, RefusesBadSettings)
 	GrainLaw L = law();
 	L.young    = 0;
 	EXPECT_THROW(GrainContacts { L }, std::invalid_argument);
-	L       = law();
+	L        = law();
 	L.tanPhi = NAN;
 	EXPECT_THROW(GrainContacts { L }, std::invalid_argument);
 	GrainContacts   gc(law());
@@ -306,4 +335,42 @@ TEST(GrainContacts, RefusesBadSettings)
 	Grains h = randomGrains(6, 1);
 	Sums   s(6);
 	EXPECT_THROW(gc.step(h.motion(), 0, 1e-5, s.s), std::invalid_argument);
+}
+
+// Parts of the spheres run one after the other, each with sums of its own, give every sphere
+// the forces of the whole step (up to the order of the sums); the parts hold about equal
+// numbers of pairs.
+TEST(GrainContacts, PartsMakeTheWholeStep)
+{
+	const Grains    g = randomGrains(600, 13);
+	const long      n = (long)g.pos.size();
+	GrainNeighbours nb(0.016);
+	nb.build(g.pos.data(), g.radius.data(), n);
+	GrainContacts whole(law(0.5, 1.0)), parts(law(0.5, 1.0));
+	whole.follow(nb);
+	parts.follow(nb);
+	for (long it = 0; it < 4; ++it) {
+		Sums w(n);
+		whole.step(g.motion(), it, 1e-5, w.s);
+		Sums  p0(n), p1(n), p2(n);
+		Sums* ps[3] = { &p0, &p1, &p2 };
+		for (int k = 0; k < 3; ++k)
+			parts.step(g.motion(), it, 1e-5, ps[k]->s, parts.splitAt(k, 3), parts.splitAt(k + 1, 3));
+		double scale = 0;
+		for (long i = 0; i < n; ++i)
+			scale = std::max(scale, w.f[i].norm());
+		for (long i = 0; i < n; ++i) {
+			EXPECT_LT((p0.f[i] + p1.f[i] + p2.f[i] - w.f[i]).norm(), 1e-13 * scale) << i;
+			EXPECT_LT((p0.t[i] + p1.t[i] + p2.t[i] - w.t[i]).norm(), 1e-13 * scale) << i;
+		}
+		EXPECT_NEAR(p0.s.elastic + p1.s.elastic + p2.s.elastic, w.s.elastic, 1e-12 * w.s.elastic);
+	}
+	for (int k = 0; k < 3; ++k) {
+		const long pairs = nb.first()[parts.splitAt(k + 1, 3)] - nb.first()[parts.splitAt(k, 3)];
+		EXPECT_NEAR((double)pairs, nb.pairs() / 3.0, 0.05 * nb.pairs()) << k;
+	}
+	EXPECT_EQ(parts.splitAt(0, 3), 0);
+	EXPECT_EQ(parts.splitAt(3, 3), n);
+	Sums s(n);
+	EXPECT_THROW(parts.step(g.motion(), 4, 1e-5, s.s, 5, 2), std::invalid_argument);
 }

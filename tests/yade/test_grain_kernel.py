@@ -1,9 +1,11 @@
 """The grains' kernel on arrays of its own (pkg/kernel/GrainNeighbours, GrainContacts; driver
 bench/grain_kernel.cpp) computes the plugin's sphere-sphere law: the same bed of overlapping
-spheres moving at constant velocities and angular velocities (every DOF blocked), stepped by our
-engines in YADE and by the kernel, gives every sphere the same force and torque, the same energy
-terms and the same count of deep onsets. The two add a body's contacts in another order (pair
-order against the interaction container's), so the sums agree to round-off, not bit for bit."""
+spheres, stepped by our engines in YADE and by the kernel, gives every sphere the same force and
+torque, the same energy terms and the same count of deep onsets; the spheres moving at constant
+velocities and angular velocities (every DOF blocked), or free (leap-frog, no gravity). The two
+add a body's contacts in another order (pair order against the interaction container's), so the
+sums agree to round-off, not bit for bit; free spheres carry that round-off into their motion
+(8e-15 of the largest force after 40 steps, 8e-14 after 100, measured)."""
 import math
 import os
 import random
@@ -36,13 +38,14 @@ def _bed():
     return out
 
 
-def _plugin(bed):
+def _plugin(bed, free, steps):
     O.reset()
     mat = FrictMat(young=YOUNG, poisson=KS_OVER_KN, density=2650, frictionAngle=math.radians(FRICTION_DEG))
     O.materials.append(mat)
     for c, r, v, w in bed:
         b = O.bodies[_sphere_body(Vector3(*c), r, mat)]
-        b.state.blockedDOFs = "xyzXYZ"  # constant velocities: both codes move the spheres the same way
+        if not free:
+            b.state.blockedDOFs = "xyzXYZ"  # constant velocities: both codes move the spheres the same way
         b.state.vel, b.state.angVel = Vector3(*v), Vector3(*w)
     O.engines = yf.engines(gravity=(0, 0, 0), rolling_stiffness=ROLL_K, rolling_friction=ROLL_ETA, verlet=0.002)
     for e in O.engines:
@@ -50,17 +53,17 @@ def _plugin(bed):
             e.dead = True
     O.dt = DT
     O.trackEnergy = True
-    O.run(STEPS, True)
+    O.run(steps, True)
     law = [f for e in O.engines if e.label == "interactionLoop" for f in e.lawDispatcher.functors if f.label == "flexLaw"][0]
     forces = [(O.forces.f(i), O.forces.t(i)) for i in range(len(bed))]
     energy = dict(elastic=O.energy["flexContactElastic"], friction=O.energy["flexFriction"], rolling=O.energy["flexRolling"])
     return forces, energy, law.deepOnsets, O.interactions.countReal()
 
 
-def _kernel(bed, tmp_path):
+def _kernel(bed, tmp_path, free, steps):
     path = tmp_path / "bed.txt"
     path.write_text("".join(" ".join(repr(float(x)) for x in (*c, r, *v, *w)) + "\n" for c, r, v, w in bed))
-    opts = {"compare": 1, "steps": STEPS, "dt": DT, "young": YOUNG, "ks-over-kn": KS_OVER_KN, "tan-phi": math.tan(math.radians(FRICTION_DEG)),
+    opts = {"compare": 2 if free else 1, "steps": steps, "density": 2650, "dt": DT, "young": YOUNG, "ks-over-kn": KS_OVER_KN, "tan-phi": math.tan(math.radians(FRICTION_DEG)),
             "rolling-stiffness": ROLL_K, "rolling-friction": ROLL_ETA, "skin": 0.002}
     out = subprocess.run([BINARY, str(path)] + [x for k, v in opts.items() for x in (f"--{k}", repr(float(v)))], capture_output=True, text=True, check=True)
     forces, energy = {}, None
@@ -73,19 +76,20 @@ def _kernel(bed, tmp_path):
     return [forces[i] for i in range(len(bed))], energy
 
 
-def test_kernel_gives_the_plugins_forces_and_energies(scene, tmp_path):
+@pytest.mark.parametrize("free", [False, True])
+def test_kernel_gives_the_plugins_forces_and_energies(scene, tmp_path, free):
     assert os.path.exists(BINARY), f"{BINARY}: built by scripts/setup"
     bed = _bed()
-    ours, energy, deep, real = _plugin(bed)
-    kern, (kenergy, kdeep) = _kernel(bed, tmp_path)
+    ours, energy, deep, real = _plugin(bed, free, STEPS)
+    kern, (kenergy, kdeep) = _kernel(bed, tmp_path, free, STEPS)
     scale = max(max(abs(x) for x in f) for f, _ in ours)
     tscale = max(max(abs(x) for x in t) for _, t in ours)
-    assert real > 200 and scale > 0 and tscale > 0  # (contacts, sliding and rolling under way)
+    assert real > 150 and scale > 0 and tscale > 0  # (contacts, sliding and rolling under way; free: the bed flies apart)
     for i, ((f, t), (kf, kt)) in enumerate(zip(ours, kern)):
         # one body's contacts summed in another order: round-off of a few terms of size `scale`
         assert max(abs(f[a] - kf[a]) for a in range(3)) <= 1e-12 * scale, (i, f, kf)
         assert max(abs(t[a] - kt[a]) for a in range(3)) <= 1e-12 * tscale, (i, t, kt)
     for k in ("elastic", "friction", "rolling"):
         assert energy[k] > 0
-        assert kenergy[k] == pytest.approx(energy[k], rel=1e-11), k
+        assert kenergy[k] == pytest.approx(energy[k], rel=1e-12), k
     assert kdeep == deep and deep > 0  # (built overlapping: the first contacts start deep)
