@@ -27,7 +27,9 @@
 # Writes bench/results/grain_kernel[_quick].csv and grain_kernel[_quick]_raw.csv, prints a table.
 import argparse
 import csv
+import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -77,15 +79,13 @@ def lammps_args(a):
     return LG, la
 
 
-def run_kernel(a, la, p, grains, rolling, case, workdir, threads=1):
-    import lammps_grains as LG
+def run_kernel(a, LG, la, p, grains, rolling, case, workdir, threads=1):
     pre = p.preset()
     path = os.path.join(workdir, "grains.txt")
     if not os.path.exists(path):
         with open(path, "w") as fh:
             for c, r in grains:
                 fh.write(f"{c[0]!r} {c[1]!r} {c[2]!r} {r!r}\n")
-    import math
     opts = {"steps": a.steps, "warmup": a.warmup, "dt": la.dt, "young": pre["young"], "ks-over-kn": 0.3,
             "tan-phi": math.tan(math.radians(pre["friction_deg"])), "rolling-stiffness": 1.0 if rolling else 0.0,
             "rolling-friction": pre["rolling_friction"] if rolling else 0.0, "density": pre["density"], "gravity": 9.81,
@@ -111,31 +111,28 @@ def main():
         sys.exit(f"grain_kernel.py: {a.binary} not found: build the project first (scripts/setup, or cmake --build build)")
     LG, la = lammps_args(a)
     p = ModuleParams()
-    grains, f = LG.BG.grains_of(p, a.cache_dir)
-    grains = [((float(c[0]), float(c[1]), float(c[2])), float(r)) for c, r in grains]
-    kn = p.preset()["young"] * statistics.mean(r for _, r in grains)
+    grains, f = LG.bed(p, a.cache_dir)
+    kn = LG.lammps_kn(p, grains)
     tag = "_quick" if a.quick else ""
     os.makedirs(a.out, exist_ok=True)
     line0 = machine_line(yade.config.version, O.numThreads)
     print(f"grain_kernel: {len(grains)} grains of {os.path.basename(f)}, {a.rounds} rounds of {a.steps} steps\n  start: {line0.strip()}", flush=True)
     workdir = tempfile.mkdtemp(prefix="grain_kernel_")
     raw = []
-    for rnd in range(a.rounds):
-        order = ENGINES[rnd % len(ENGINES):] + ENGINES[:rnd % len(ENGINES)]
-        for case in ("rest", "impact"):
-            for e in order:
-                t0 = time.time()
-                if e.startswith("kernel"):
-                    r = run_kernel(a, la, p, grains, e != "kernel_norol", case, workdir, 2 if e == "kernel_j2" else 1)
-                elif e.startswith("lmp"):
-                    r = LG.run_lammps(la, p, grains, 1, case, e, kn, workdir, a.steps)
-                else:
-                    r = LG.run_yade(la, p, grains, e, 1, case, a.steps)
-                r.update(engine=e, round=rnd, case=case)
-                raw.append(r)
-                extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm" if case == "impact" else ""
-                print(f"  round {rnd} {case:6s} {e:12s} {r['us']:7.3f} us/particle-step, contacts/grain {r['contacts_pp']:.2f}, KE {r['ke']:.3g} J, "
-                      f"vmax {r['vmax']:.3g} m/s{extra}  [{time.time() - t0:.0f} s]", flush=True)
+    for rnd, case, e in LG.alternated(ENGINES, a.rounds):
+        t0 = time.time()
+        if e.startswith("kernel"):
+            r = run_kernel(a, LG, la, p, grains, e != "kernel_norol", case, workdir, 2 if e == "kernel_j2" else 1)
+        elif e.startswith("lmp"):
+            r = LG.run_lammps(la, p, grains, 1, case, e, kn, workdir, a.steps)
+        else:
+            r = LG.run_yade(la, p, grains, e, 1, case, a.steps)
+        r.update(engine=e, round=rnd, case=case)
+        raw.append(r)
+        extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm" if case == "impact" else ""
+        print(f"  round {rnd} {case:6s} {e:12s} {r['us']:7.3f} us/particle-step, contacts/grain {r['contacts_pp']:.2f}, KE {r['ke']:.3g} J, "
+              f"vmax {r['vmax']:.3g} m/s{extra}  [{time.time() - t0:.0f} s]", flush=True)
+    shutil.rmtree(workdir, ignore_errors=True)  # the grains file and LAMMPS's data files, inputs and logs
     line1 = machine_line(yade.config.version, O.numThreads)
 
     rows = []

@@ -36,8 +36,7 @@ from yadeflex.module import ModuleParams
 kind, case, steps = os.environ["GB_KIND"], os.environ["GB_CASE"], int(os.environ["GB_STEPS"])
 a = LG.parse()
 p = ModuleParams()
-grains, _ = LG.BG.grains_of(p, a.cache_dir)
-grains = [((float(c[0]), float(c[1]), float(c[2])), float(r)) for c, r in grains]
+grains, _ = LG.bed(p, a.cache_dir)
 n, imp = LG.build_yade(a, p, grains, kind, 1, case)
 O.run(a.warmup, True)
 col = next(e for e in O.engines if e.label == "collider")

@@ -126,6 +126,27 @@ def parse():
     return a
 
 
+def bed(p, cache_dir):
+    """The cached default module's settled grains as [((x, y, z), r)] in floats, and the cache file."""
+    grains, f = BG.grains_of(p, cache_dir)
+    return [((float(c[0]), float(c[1]), float(c[2])), float(r)) for c, r in grains], f
+
+
+def lammps_kn(p, grains):
+    """LAMMPS's one kn for every pair: E x the mean grain radius [N/m]."""
+    return p.preset()["young"] * statistics.mean(r for _, r in grains)
+
+
+def alternated(engines, rounds, cases=("rest", "impact")):
+    """(round, case, engine) in the order of the runs: every case in each round, the engines'
+    order rotated by one from round to round."""
+    for rnd in range(rounds):
+        order = engines[rnd % len(engines):] + engines[:rnd % len(engines)]
+        for case in cases:
+            for e in order:
+                yield rnd, case, e
+
+
 def r_in_of(p, grains):
     """The cylinder's radius as bench_grains.scene() computes it."""
     return max(fill_radii(p)[1], max(math.hypot(c[0], c[1]) + r for c, r in grains) + 1e-4)
@@ -318,10 +339,8 @@ def main():
     tag = "_quick" if a.quick else ""
     os.makedirs(a.out, exist_ok=True)
     t_all = time.time()
-    grains, f = BG.grains_of(p, a.cache_dir)
-    grains = [((float(c[0]), float(c[1]), float(c[2])), float(r)) for c, r in grains]
-    pre = p.preset()
-    kn = a.kn if a.kn is not None else pre["young"] * statistics.mean(r for _, r in grains)
+    grains, f = bed(p, a.cache_dir)
+    kn = a.kn if a.kn is not None else lammps_kn(p, grains)
     line0 = machine_line(yade.config.version, O.numThreads)
     lv = subprocess.run([a.lmp, "-h"], capture_output=True, text=True).stdout
     lver = next((s.strip() for s in lv.splitlines() if s.startswith("Large-scale")), "?")
@@ -337,22 +356,19 @@ def main():
     for copies in sizes:
         steps = a.steps if copies == 1 else a.steps_big
         engs = ENGINES if copies == 1 else [e for e in ENGINES if e in big_eng]
-        for rnd in range(a.rounds):
-            order = engs[rnd % len(engs):] + engs[:rnd % len(engs)]
-            for case in ("rest", "impact"):
-                for e in order:
-                    t0 = time.time()
-                    if e.startswith("lmp"):
-                        r = run_lammps(a, p, grains, copies, case, e, kn, workdir, steps)
-                    else:
-                        r = run_yade(a, p, grains, e, copies, case, steps)
-                    r.update(copies=copies, grains=copies * len(grains), case=case, engine=e, round=rnd)
-                    raw.append(r)
-                    raw_w.writerow(r)
-                    raw_fh.flush()
-                    extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm, v_end {r['v_end']:.2f} m/s" if case == "impact" else ""
-                    print(f"  {copies}x {case:6s} round {rnd} {e:10s} {r['us']:7.3f} us/particle-step (dt {r['dt']:.3g}), contacts/grain {r['contacts_pp']:.2f}, "
-                          f"KE {r['ke']:.3g} J, vmax {r['vmax']:.3g} m/s{extra}  [{time.time() - t0:.0f} s]", flush=True)
+        for rnd, case, e in alternated(engs, a.rounds):
+            t0 = time.time()
+            if e.startswith("lmp"):
+                r = run_lammps(a, p, grains, copies, case, e, kn, workdir, steps)
+            else:
+                r = run_yade(a, p, grains, e, copies, case, steps)
+            r.update(copies=copies, grains=copies * len(grains), case=case, engine=e, round=rnd)
+            raw.append(r)
+            raw_w.writerow(r)
+            raw_fh.flush()
+            extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm, v_end {r['v_end']:.2f} m/s" if case == "impact" else ""
+            print(f"  {copies}x {case:6s} round {rnd} {e:10s} {r['us']:7.3f} us/particle-step (dt {r['dt']:.3g}), contacts/grain {r['contacts_pp']:.2f}, "
+                  f"KE {r['ke']:.3g} J, vmax {r['vmax']:.3g} m/s{extra}  [{time.time() - t0:.0f} s]", flush=True)
     line1 = machine_line(yade.config.version, O.numThreads)
     print(f"  end: {line1.strip()}")
 
