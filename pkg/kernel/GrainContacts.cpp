@@ -10,14 +10,32 @@
 
 namespace flex {
 
-GrainContacts::GrainContacts(const GrainLaw& law)
-        : law_(law)
+GrainContacts::GrainContacts(const GrainLaw& law) { setLaw(law); }
+
+void GrainContacts::setLaw(const GrainLaw& law)
 {
 	if (!(law.young > 0) || !std::isfinite(law.young)) throw std::invalid_argument("GrainContacts: young must be finite and positive");
 	if (!(law.ksOverKn >= 0) || !std::isfinite(law.ksOverKn)) throw std::invalid_argument("GrainContacts: ksOverKn must be finite and >= 0");
 	if (!(law.tanPhi >= 0) || !std::isfinite(law.tanPhi)) throw std::invalid_argument("GrainContacts: tanPhi must be finite and >= 0");
 	if (!(law.rollingStiffness >= 0) || !(law.rollingFriction >= 0) || !std::isfinite(law.rollingStiffness) || !std::isfinite(law.rollingFriction))
 		throw std::invalid_argument("GrainContacts: rollingStiffness and rollingFriction must be finite and >= 0");
+	if (!(law.onsetFactor >= 0)) throw std::invalid_argument("GrainContacts: onsetFactor must be >= 0");
+	law_ = law;
+}
+
+void GrainContacts::restart(const GrainNeighbours& nb)
+{
+	first_  = nb.first();
+	second_ = nb.second();
+	state_.assign(second_.size(), State());
+}
+
+GrainContacts::State* GrainContacts::at(long i, int j)
+{
+	if (i < 0 || i + 1 >= (long)first_.size()) return nullptr;
+	const auto b = second_.begin() + first_[i], e = second_.begin() + first_[i + 1];
+	const auto k = std::lower_bound(b, e, j);
+	return (k != e && *k == j) ? &state_[k - second_.begin()] : nullptr;
 }
 
 long GrainContacts::follow(const GrainNeighbours& nb)
@@ -96,7 +114,7 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 	Vec3* const force   = sums.force;
 	Vec3* const torque  = sums.torque;
 	double      elastic = 0, friction = 0, rolling = 0, deepEnergy = 0, maxRatio = sums.maxOverlapRatio;
-	long        deep = 0;
+	long        deep = 0, maxI = -1, maxJ = -1, touching = 0;
 	for (long i = begin; i < end; ++i) {
 		const Vec3&  x1 = m.pos[i];
 		const double R1 = m.radius[i];
@@ -154,6 +172,7 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 			const bool   handover   = !wasActive;
 			const double onsetDepth = handover ? overlap : 0.0;
 			s.lastActive            = iter;
+			++touching;
 			if (onsetDepth > 0) {
 				const double approach = std::max(0.0, -n.dot(relVel)) * dt;
 				if (onsetDepth > L.onsetFactor * approach) {
@@ -161,7 +180,11 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 					deepEnergy += normalSpring(s.kn, onsetDepth, 0, false).energy;
 				}
 			}
-			maxRatio                      = std::max(maxRatio, overlap / (R1 + R2));
+			if (overlap / (R1 + R2) > maxRatio) {
+				maxRatio = overlap / (R1 + R2);
+				maxI     = i;
+				maxJ     = j;
+			}
 			const Vec3              shear = rotateShear(handover ? Vec3(Vec3::Zero()) : s.shear, n);
 			const Vec3              dus   = (relVel - n.dot(relVel) * n) * dt;
 			const FrictionalContact fc { s.kn, s.ks, L.tanPhi };
@@ -195,8 +218,13 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 	sums.friction += friction;
 	sums.rolling += rolling;
 	sums.deepOnsets += deep;
+	sums.touching += touching;
 	sums.deepOnsetEnergy += deepEnergy;
 	sums.maxOverlapRatio = maxRatio;
+	if (maxI >= 0) {
+		sums.maxOverlapI = maxI;
+		sums.maxOverlapJ = maxJ;
+	}
 }
 
 } // namespace flex

@@ -50,12 +50,14 @@ struct GrainMotion {
 struct GrainSums {
 	Vec3*  force;
 	Vec3*  torque;
-	double elastic         = 0; ///< stored in the springs at this step [J]
-	double friction        = 0; ///< dissipated by sliding this step [J]
-	double rolling         = 0; ///< dissipated by rolling this step [J]
-	long   deepOnsets      = 0; ///< contacts starting deeper than onsetFactor x approach x dt
-	double deepOnsetEnergy = 0; ///< their springs' energy [J]
-	double maxOverlapRatio = 0; ///< largest d / (r1 + r2) of an active contact
+	double elastic         = 0;                ///< stored in the springs at this step [J]
+	double friction        = 0;                ///< dissipated by sliding this step [J]
+	double rolling         = 0;                ///< dissipated by rolling this step [J]
+	long   touching        = 0;                ///< contacts carrying force (touching) at this step
+	long   deepOnsets      = 0;                ///< contacts starting deeper than onsetFactor x approach x dt
+	double deepOnsetEnergy = 0;                ///< their springs' energy [J]
+	double maxOverlapRatio = 0;                ///< largest d / (r1 + r2) of an active contact
+	long   maxOverlapI = -1, maxOverlapJ = -1; ///< its spheres, when this pass raised it (else unchanged)
 };
 
 class GrainContacts {
@@ -66,6 +68,11 @@ public:
 	/// both keeps its state. Returns the contacts that had no place in the new list (0 while the
 	/// list is built before any sphere moves half the skin).
 	long follow(const GrainNeighbours& nb);
+	/// Take nb's list with no contacts (the spheres are not those of the list followed; their
+	/// contacts are then put back with at()).
+	void restart(const GrainNeighbours& nb);
+	/// Other settings (the contacts keep their states; a contact's kn and ks stay those it started with).
+	void setLaw(const GrainLaw& law);
 	/// One step at iteration iter (consecutive steps: iter + 1) of length dt [s].
 	void step(const GrainMotion& m, long iter, double dt, GrainSums& sums) { step(m, iter, dt, sums, 0, (long)first_.size() - 1); }
 	/// The pairs of spheres [begin, end) only (their first sphere in that range): parts that
@@ -93,6 +100,11 @@ public:
 		bool          exists = false;
 	};
 	const std::vector<State>& states() const { return state_; }
+	/// The state of pair (i, j), i < j, of the list followed; null if the pair is not listed.
+	State* at(long i, int j);
+	/// The list followed (CSR, as GrainNeighbours::first and second).
+	const std::vector<long>& first() const { return first_; }
+	const std::vector<int>&  second() const { return second_; }
 
 private:
 	GrainLaw           law_;

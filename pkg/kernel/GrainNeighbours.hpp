@@ -39,6 +39,9 @@ public:
 	/// CSR: partners of i are second()[first()[i] .. first()[i + 1]), ascending, each > i.
 	const std::vector<long>& first() const { return first_; }
 	const std::vector<int>&  second() const { return second_; }
+	/// How far sphere i (at pos[i]) may still move before the list is stale: skin / 2 less its
+	/// distance from its place at the last build [m] (after a build of at least i + 1 spheres).
+	double reach(const Vec3* pos, long i) const { return 0.5 * skin_ - (pos[i] - at_[i]).norm(); }
 
 private:
 	double            skin_;

@@ -3,6 +3,7 @@
 #include "FlexProtocol.hpp"
 #include "FlexBoundDispatcher.hpp"
 #include "FlexFacet.hpp"
+#include "FlexGrainEngine.hpp"
 
 #include <kernel/TimeStep.hpp>
 
@@ -60,10 +61,11 @@ namespace flexa {
 		{
 			if (!e) return -1;
 			if (dynamic_cast<const InsertionSortCollider*>(e)) return 0;
-			if (dynamic_cast<const InteractionLoop*>(e)) return 1;
-			if (dynamic_cast<const FlexElementEngine*>(e)) return 2;
-			if (dynamic_cast<const FlexTimeStepper*>(e)) return 3;
-			if (dynamic_cast<const NewtonIntegrator*>(e)) return 4;
+			if (dynamic_cast<const FlexGrainEngine*>(e)) return 1;
+			if (dynamic_cast<const InteractionLoop*>(e)) return 2;
+			if (dynamic_cast<const FlexElementEngine*>(e)) return 3;
+			if (dynamic_cast<const FlexTimeStepper*>(e)) return 4;
+			if (dynamic_cast<const NewtonIntegrator*>(e)) return 5;
 			return -1;
 		}
 		std::string name(const Engine& e, size_t at)
@@ -127,7 +129,7 @@ namespace flexa {
 						std::ostringstream s;
 						s << "O.engines: " << name(top, at) << " holds " << slave->getClassName()
 						  << ", which must run on its own in O.engines: a ParallelEngine runs its slaves at the same time, and the "
-						     "yade-flex engines (InsertionSortCollider, (Flex)InteractionLoop, FlexElementEngine, FlexTimeStepper, "
+						     "yade-flex engines (InsertionSortCollider, FlexGrainEngine, (Flex)InteractionLoop, FlexElementEngine, FlexTimeStepper, "
 						     "(Flex)NewtonIntegrator) share the scene's bodies and interactions";
 						throw std::invalid_argument(s.str());
 					}
@@ -152,7 +154,7 @@ namespace flexa {
 			if (r < best) {
 				std::ostringstream s;
 				s << "O.engines: " << name(*engines[i], i) << " must come before " << name(*engines[at], at)
-				  << ": the yade-flex engines run in the order InsertionSortCollider, (Flex)InteractionLoop, FlexElementEngine, "
+				  << ": the yade-flex engines run in the order InsertionSortCollider, FlexGrainEngine, (Flex)InteractionLoop, FlexElementEngine, "
 				     "FlexTimeStepper, (Flex)NewtonIntegrator (yadeflex.engines() builds it)";
 				throw std::invalid_argument(s.str());
 			}

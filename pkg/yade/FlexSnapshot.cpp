@@ -1,5 +1,6 @@
 // yade-flex adapter: FlexSnapshot (GPL-2.0-or-later). What and why: FlexSnapshot.hpp.
 #include "FlexSnapshot.hpp"
+#include "FlexGrainEngine.hpp"
 #include "Flex.hpp"
 #include "FlexElements.hpp"
 #include "FlexFacet.hpp"
@@ -194,6 +195,21 @@ boost::python::dict FlexSnapshot::contacts() const
 		else
 			depth.push_back(std::numeric_limits<double>::quiet_NaN());
 	}
+	// the grains' contacts that a FlexGrainEngine keeps out of the interactions (as their step saw them)
+	for (const auto& e : scene->engines)
+		if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get()))
+			ge->forEachContact([&](const FlexGrainEngine::ContactRow& r) {
+				id1.push_back(r.id1);
+				id2.push_back(r.id2);
+				push3(end1, r.x1);
+				push3(end2, r.x2);
+				push3(point, r.point);
+				push3(normal, r.normal);
+				push3(fn, r.normalForce);
+				push3(fs, r.shearForce);
+				depth.push_back(r.depth);
+				plastic.push_back(0.0);
+			});
 	boost::python::dict d;
 	put<long>(d, { { "id1", &id1 }, { "id2", &id2 } });
 	put<double>(d,

@@ -158,7 +158,12 @@ void FlexTimeStepper::action()
 	// step.) Without an InsertionSortCollider: at every change of the count, as before.
 	const long   colliderRuns = flexa::insertionSortColliderRuns(scene);
 	const size_t nIntr        = scene->interactions->size();
-	const bool   changed      = colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount;
+	// and whenever a FlexGrainEngine built its neighbour list again (it alone adds grain pairs)
+	long grainBuilds = 0;
+	for (const auto& e : scene->engines)
+		if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get())) grainBuilds += ge->builds;
+	const bool changed = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds;
+	lastGrainBuilds    = grainBuilds;
 	lastInteractionCount      = nIntr;
 	lastColliderRuns          = colliderRuns;
 	if (!markUnreachable) flexa::sceneState(scene).unreachable.set = false; // switched off: retire the marks

@@ -12,6 +12,7 @@ namespace flexa {
 class FlexTimeStepper : public GlobalEngine {
 	size_t lastInteractionCount = 0;
 	long   lastColliderRuns     = -1;
+	long   lastGrainBuilds      = 0; // FlexGrainEngine.builds, summed
 	// where the last bounds came from (const estimates record them)
 	mutable Body::id_t stiffestBondBody = -1, stiffestContactBody = -1, stiffestCache = -1;
 	mutable long       skippedCache = 0;

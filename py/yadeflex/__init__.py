@@ -14,7 +14,7 @@ from .materials import flex_material, steel, rope_6x7_8mm
 from .builders import node, cylinder, chain, ring, helix, net, fix, check_finite
 from .membrane import (membrane_material, geotextile, facet, triangle_mesh, sheet, lining, read_mesh, mesh_file,
                        membrane_state)
-from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on, contact_law, step_until
+from .scene import engines, critical_timestep, energy_budget, bond_forces, contacts_on, contact_law, grain_engine, step_until
 from .wire import wire_material, tecco_wire
 from .mesh import chain_link_panel, chain_link_cylinder, edge_ring
 from .rope import rope_around
@@ -34,7 +34,7 @@ __all__ = [
     "node", "cylinder", "chain", "ring", "helix", "net", "fix", "check_finite",
     "membrane_material", "geotextile", "facet", "triangle_mesh", "sheet", "lining", "read_mesh", "mesh_file",
     "membrane_state",
-    "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on", "contact_law",
+    "engines", "critical_timestep", "energy_budget", "bond_forces", "contacts_on", "contact_law", "grain_engine",
     "wire_material", "tecco_wire", "chain_link_panel", "chain_link_cylinder", "edge_ring", "rope_around",
     "VtkRecorder", "write_vtk_snapshot", "EnergyRecorder", "read_csv", "plot_timeseries", "plot_energy",
     "view", "snapshot", "scene_box", "color_by_part", "legend", "parts", "name_parts", "Boulder", "boulder_impact",

@@ -28,7 +28,7 @@ from .constants import G
 from .grains import (DEPOSITION_FRICTION, FILL_TIMESTEP_SAFETY, SETTLE_DAMPING, UNBALANCED_TOL, _grain_material, _sphere_body, fill_engines,
                      fill_preset)
 from .mass_scaling import _heavier_nodes, _restore_nodes
-from .scene import DAMPING, DEFAULT_TIMESTEP_SAFETY, step_until
+from .scene import DAMPING, DEFAULT_TIMESTEP_SAFETY, grain_engine, step_until
 
 # clearance of the lattice's centres from the region's boundary, x the largest radius (a grain
 # placed there does not touch the boundary), and the lattice's spacing, x the largest radius
@@ -261,12 +261,14 @@ def unbalanced_force():
     left out, one with some blocked counts along the others. Without such bodies, YADE's call."""
     from yade import utils
     bodies = [b for b in O.bodies if b is not None and b.dynamic and not b.isClumpMember]
-    if not any(set(b.state.blockedDOFs) & set("xyz") for b in bodies):
+    ge = grain_engine()  # (its contacts are not in O.interactions, where YADE's call looks)
+    if ge is None and not any(set(b.state.blockedDOFs) & set("xyz") for b in bodies):
         return utils.unbalancedForce()
     g = next(e for e in O.engines if isinstance(e, NewtonIntegrator)).gravity
     free = [(b, [k for k, ax in enumerate("xyz") if ax not in b.state.blockedDOFs]) for b in bodies]
     res = [math.sqrt(sum((O.forces.f(b.id) + b.state.mass * g)[k] ** 2 for k in ks)) for b, ks in free if ks]
     contacts = [(i.phys.normalForce + i.phys.shearForce).norm() for i in O.interactions if i.isReal]
+    contacts += [(fn + fs).norm() for _, _, fn, fs in (ge.contactList() if ge else ())]
     return (sum(res) / len(res)) / (sum(contacts) / len(contacts)) if res and contacts else math.nan
 
 

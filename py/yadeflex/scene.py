@@ -13,11 +13,11 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, FlexInteractionL
                           Ig2_Box_FlexFacet_FlexContactGeom, Ig2_Facet_FlexFacet_FlexContactGeom,
                           Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack,
                           Law2_FlexContactGeom_FrictPhys_CundallStrack, FlexElementEngine, FlexTimeStepper, FlexNewtonIntegrator, FlexGuard,
-                          FlexCylinder, FlexNode, Sphere, FlexRun)
+                          FlexCylinder, FlexNode, Sphere, FlexRun, FlexGrainEngine, FrictMat)
 
 from . import checks as C
 from .constants import G
-from .builders import check_finite
+from .builders import check_finite, lookup_material
 
 
 def _min_contact_radius():
@@ -47,7 +47,7 @@ def engine_args(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTE
 
 
 def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SAFETY, timestep_interval=50, verlet=None, flex_sphere_contacts=True,
-            rolling_stiffness=0.0, rolling_friction=0.0, crushing_is50=0.0, guard=False):
+            rolling_stiffness=0.0, rolling_friction=0.0, crushing_is50=0.0, guard=False, grains=None):
     """Standard engine list for scenes with yade-flex cylinders and facets, spheres, YADE facets, boxes, walls.
 
     damping [-]: NewtonIntegrator's non-viscous (local) damping; 0 by default, so that every
@@ -75,6 +75,11 @@ def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SA
     (with O.trackEnergy) energy created without external work; it costs one pass over the
     bodies per step. Or a FlexGuard to use. Off by default: it still raises false alarms on
     driven scenes (tensile tests booking energy before their first external work).
+    grains (opt-in): the grains' material (a FrictMat in O.materials, or its label): contacts
+    between standalone spheres of that material then run in a FlexGrainEngine (label
+    'grainEngine') on a neighbour list of its own (pairs within r1 + r2 + half the smallest grain's radius), with the same law,
+    instead of through O.interactions (their contacts with everything else stay there). Not
+    with crushing_is50.
     """
     g, damping, timestep_safety = engine_args(gravity, damping, timestep_safety)
     timestep_interval = C.integer("timestep_interval", timestep_interval, 1)
@@ -95,6 +100,14 @@ def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SA
     if verlet is None:
         r = _min_contact_radius()
         verlet = 0.5 * r if math.isfinite(r) else 0.0
+    grain_engine = []
+    if grains is not None:
+        if not flex_sphere_contacts:
+            raise ValueError("grains: the grain engine runs yade-flex's sphere-sphere law (flex_sphere_contacts=True)")
+        if crushing_is50:
+            raise ValueError("grains: the grain engine does not crush grains (crushing_is50 must be 0)")
+        m = lookup_material(grains, FrictMat)
+        grain_engine = [FlexGrainEngine(material=m.id, label="grainEngine")]
     if guard is True:
         guard = FlexGuard(label="guard")
     elif guard is not False and not isinstance(guard, FlexGuard):
@@ -103,6 +116,7 @@ def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SA
         ForceResetter(),
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_FlexCylinder_Aabb(), Bo1_FlexFacet_Aabb(), Bo1_Facet_Aabb(), Bo1_Box_Aabb(), Bo1_Wall_Aabb()],
                               verletDist=verlet, label="collider"),
+    ] + grain_engine + [
         FlexInteractionLoop(
             [Ig2_Sphere_Sphere_FlexContactGeom() if flex_sphere_contacts else Ig2_Sphere_Sphere_ScGeom(), Ig2_Sphere_FlexCylinder_FlexContactGeom(), Ig2_FlexCylinder_FlexCylinder_FlexContactGeom(),
              Ig2_Sphere_FlexFacet_FlexContactGeom(), Ig2_FlexCylinder_FlexFacet_FlexContactGeom(), Ig2_FlexFacet_FlexFacet_FlexContactGeom(),
@@ -154,6 +168,11 @@ def contact_law():
             if type(f).__name__ == "Law2_FlexContactGeom_FrictPhys_CundallStrack":
                 return f
     raise ValueError("no Law2_FlexContactGeom_FrictPhys_CundallStrack in O.engines (set them with yadeflex.engines())")
+
+
+def grain_engine():
+    """The scene's FlexGrainEngine (yadeflex.engines(grains=...)), or None."""
+    return next((e for e in O.engines if isinstance(e, FlexGrainEngine)), None)
 
 
 def contacts_on(body_id, active_only=True):

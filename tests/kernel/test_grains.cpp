@@ -374,3 +374,64 @@ TEST(GrainContacts, PartsMakeTheWholeStep)
 	Sums s(n);
 	EXPECT_THROW(parts.step(g.motion(), 4, 1e-5, s.s, 5, 2), std::invalid_argument);
 }
+
+// A list restarted empty and its states put back pair by pair with at() (what an adapter does
+// when the spheres change) steps exactly as the list that kept them; the pass counts the
+// touching contacts and names the deepest one; reach() is skin / 2 less the distance moved.
+TEST(GrainContacts, StatesPutBackByPairStepTheSame)
+{
+	Grains          g = randomGrains(300, 4);
+	const long      n = (long)g.pos.size();
+	GrainNeighbours nb(0.016);
+	nb.build(g.pos.data(), g.radius.data(), n);
+	GrainContacts a(law(0.5, 1.0)), b(law(0.5, 1.0));
+	a.follow(nb);
+	for (long it = 0; it < 3; ++it) {
+		Sums s(n);
+		a.step(g.motion(), it, 1e-5, s.s);
+	}
+	b.restart(nb);
+	EXPECT_EQ(b.contacts(), 0);
+	long put = 0;
+	for (long i = 0; i < n; ++i)
+		for (long k = a.first()[i]; k < a.first()[i + 1]; ++k)
+			if (a.states()[k].exists) {
+				GrainContacts::State* s = b.at(i, a.second()[k]);
+				ASSERT_NE(s, nullptr);
+				*s = a.states()[k];
+				++put;
+			}
+	EXPECT_GT(put, 50);
+	EXPECT_EQ(b.at(0, 0), nullptr); // (a sphere is not its own partner)
+	EXPECT_EQ(b.at(n, 1), nullptr); // (no such sphere)
+	EXPECT_EQ(b.contacts(), a.contacts());
+	Sums sa(n), sb(n);
+	a.step(g.motion(), 3, 1e-5, sa.s);
+	b.step(g.motion(), 3, 1e-5, sb.s);
+	EXPECT_EQ(sa.f, sb.f);
+	EXPECT_EQ(sa.t, sb.t);
+	EXPECT_EQ(sa.s.elastic, sb.s.elastic);
+	// the touching contacts and the deepest: brute force over the pairs
+	long   touching = 0;
+	double deepest  = 0;
+	long   di = -1, dj = -1;
+	for (long i = 0; i < n; ++i)
+		for (long j = i + 1; j < n; ++j) {
+			const double ratio = (g.radius[i] + g.radius[j] - (g.pos[j] - g.pos[i]).norm()) / (g.radius[i] + g.radius[j]);
+			if (ratio <= 0) continue;
+			++touching;
+			if (ratio > deepest) {
+				deepest = ratio;
+				di      = i;
+				dj      = j;
+			}
+		}
+	EXPECT_EQ(sa.s.touching, touching);
+	EXPECT_EQ(sa.s.maxOverlapRatio, deepest);
+	EXPECT_EQ(sa.s.maxOverlapI, di);
+	EXPECT_EQ(sa.s.maxOverlapJ, dj);
+	std::vector<Vec3> moved = g.pos;
+	moved[7] += Vec3(0.003, 0.004, 0);
+	EXPECT_NEAR(nb.reach(moved.data(), 7), 0.008 - 0.005, 1e-15);
+	EXPECT_EQ(nb.reach(moved.data(), 8), 0.008);
+}

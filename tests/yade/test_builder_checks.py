@@ -194,7 +194,7 @@ BAD = [
 
 # public functions that take no user values to check, or only read the scene
 NOT_BUILDERS = {"lookup_material", "check_finite", "membrane_state", "read_mesh", "critical_timestep", "energy_budget", "bond_forces",
-                "contacts_on", "contact_law", "write_curve", "curve_at", "square_membrane_deflection", "foppl_hencky_centre_deflection"}
+                "contacts_on", "contact_law", "grain_engine", "write_curve", "curve_at", "square_membrane_deflection", "foppl_hencky_centre_deflection"}
 
 
 def _public(mod):

@@ -4,6 +4,7 @@
 #pragma once
 #include "../FlexContactSide.hpp"
 #include "../FlexElements.hpp"
+#include "../FlexGrainEngine.hpp"
 #include "../FlexLaws.hpp"
 #include "../FlexProtocol.hpp"
 #include "../FlexSurfaces.hpp"
@@ -188,6 +189,16 @@ namespace flexa {
 						rowRot[i] += moreRows[2 * (t - 1) + 1][i];
 					}
 				skippedCount = skipped;
+				// the grains' pairs, which FlexGrainEngine keeps out of the interactions
+				for (const auto& e : scene->engines)
+					if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get())) {
+						std::vector<Real> invSqrt(sb.size()), imin(sb.size());
+						for (size_t i = 0; i < sb.size(); ++i) {
+							invSqrt[i] = sb[i].invSqrtMass;
+							imin[i]    = sb[i].Imin;
+						}
+						ge->addStepRows(row.data(), rowRot.data(), invSqrt, imin);
+					}
 				if (mark && canSkip) { // valid until the collider runs (else none: marks.set stays false)
 					const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
 					marks.collider                    = collider;

@@ -13,7 +13,7 @@ from ..mesh import chain_link_cylinder, edge_ring, TECCO_G65_WIRE_RADIUS as TECC
 from .ids import ModuleIds, ModuleStructureIds
 from ..grains import FILL_TIMESTEP_SAFETY, UNBALANCED_TOL, _grain_material, _sphere_body, fill_preset
 from ..mass_scaling import _heavier_nodes, _restore_nodes
-from ..scene import step_until
+from ..scene import grain_engine, step_until
 from .params import MAX_NODE_MASS_SCALING, PLACED_HEIGHT, ModuleParams, fill_radii, lining_cells_around
 
 
@@ -223,6 +223,8 @@ def fill_contacts(ids):
         elif (i.id1 in gs and i.id2 in lining) or (i.id2 in gs and i.id1 in lining):
             out["grain_lining"] += 1
             out["grain_lining_force"] += i.phys.normalForce.norm()
+    ge = grain_engine()  # (the grains' contacts it keeps out of O.interactions)
+    out["grain_grain"] += sum(1 for a, b, _, _ in (ge.contactList() if ge else ()) if a in gs and b in gs)
     return out
 
 

@@ -119,13 +119,17 @@ class ModuleParams:
             p["young"] = self.fill_young
         return p
 
-    def engines(self, damping, timestep_safety=None, crushing=True):
+    def engines(self, damping, timestep_safety=None, crushing=True, grain_engine=None):
         """yadeflex.engines() with this module's rolling resistance and, unless crushing is
-        False (the fill), its grain crushing (time step: timestep_safety, default this module's)."""
+        False (the fill), its grain crushing (time step: timestep_safety, default this module's).
+        grain_engine: the grain-grain contacts in a FlexGrainEngine (yadeflex.engines(grains="fill"));
+        None: for the impact (crushing True) unless the grains crush, not for the fill (its
+        cached states were built with the interaction loop)."""
         rf = self.preset()["rolling_friction"]
         ts = self.timestep_safety if timestep_safety is None else timestep_safety
         return engines(damping=damping, timestep_safety=ts, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf,
-                       crushing_is50=self.grain_crushing_is50 if crushing else None)
+                       crushing_is50=self.grain_crushing_is50 if crushing else None,
+                       grains="fill" if (crushing and not self.grain_crushing_is50 if grain_engine is None else grain_engine) else None)
 
     def validate(self):
         """Raise BadValue (a ValueError) naming the first bad parameter, its value and the values
