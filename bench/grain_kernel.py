@@ -21,7 +21,9 @@
 #
 # Engines, alternated round by round (the order rotated): kernel, kernel_norol (rolling
 # stiffness 0), kernel_j2 (kernel on two threads: each runs half the pairs into sums of its
-# own), flex, flex_norol (our plugin, dt held), lmp_gran (LAMMPS granular + rolling sds),
+# own), loop, loop_norol (our plugin with the grain-grain contacts in its interaction loop, dt held),
+# flex, flex_norol (the same with them in FlexGrainEngine, the kernel inside YADE, as the module's
+# impact runs them: lammps_grains.py's flex runs), lmp_gran (LAMMPS granular + rolling sds),
 # lmp_hooke (LAMMPS gran/hooke/history); all on one thread but kernel_j2. Microseconds per
 # particle-step (wall clock), medians and ranges.
 # Writes bench/results/grain_kernel[_quick].csv and grain_kernel[_quick]_raw.csv, prints a table.
@@ -46,8 +48,8 @@ from yade import O  # noqa: E402
 from yadeflex.module import ModuleParams  # noqa: E402
 from machine import machine_line  # noqa: E402
 
-ENGINES = ["kernel", "kernel_norol", "kernel_j2", "flex", "flex_norol", "lmp_gran", "lmp_hooke"]
-PAIRS = (("rolling", "kernel", "flex", "lmp_gran"), ("no rolling", "kernel_norol", "flex_norol", "lmp_hooke"))
+ENGINES = ["kernel", "kernel_norol", "kernel_j2", "loop", "loop_norol", "flex", "flex_norol", "lmp_gran", "lmp_hooke"]
+PAIRS = (("rolling", "kernel", "loop", "flex", "lmp_gran"), ("no rolling", "kernel_norol", "loop_norol", "flex_norol", "lmp_hooke"))
 
 
 def parse():
@@ -136,39 +138,46 @@ def main():
     line1 = machine_line(yade.config.version, O.numThreads)
 
     rows = []
-    for case, what, kern, flex, lmp in [(c,) + q for c in ("rest", "impact") for q in PAIRS]:
+    for case, what, kern, flex, eng, lmp in [(c,) + q for c in ("rest", "impact") for q in PAIRS]:
         def pick(e, key="us"):
             return [r[key] for r in raw if r["engine"] == e and r["case"] == case and key in r]
 
         def med(e, key, scale=1.0):
             v = pick(e, key)
             return round(scale * statistics.median(v), 1) if v else ""
-        k, y, m = pick(kern), pick(flex), pick(lmp)
+        k, y, m, g = pick(kern), pick(flex), pick(lmp), pick(eng)
         rows.append(dict(case=f"{len(grains)} grains, {case}, {what}", kernel_us=round(statistics.median(k), 4), kernel_range="%.4g-%.4g" % (min(k), max(k)),
                          plugin_us=round(statistics.median(y), 4), plugin_range="%.4g-%.4g" % (min(y), max(y)),
+                         engine_us=round(statistics.median(g), 4), engine_range="%.4g-%.4g" % (min(g), max(g)),
                          lammps_us=round(statistics.median(m), 4), lammps_range="%.4g-%.4g" % (min(m), max(m)),
                          kernel_over_lammps=round(statistics.median(k) / statistics.median(m), 3),
                          plugin_over_lammps=round(statistics.median(y) / statistics.median(m), 3),
                          plugin_over_kernel=round(statistics.median(y) / statistics.median(k), 3),
+                         engine_over_lammps=round(statistics.median(g) / statistics.median(m), 3),
+                         plugin_over_engine=round(statistics.median(y) / statistics.median(g), 3),
                          contacts_pp_kernel=round(statistics.median(pick(kern, "contacts_pp")), 3),
                          contacts_pp_plugin=round(statistics.median(pick(flex, "contacts_pp")), 3),
                          contacts_pp_lammps=round(statistics.median(pick(lmp, "contacts_pp")), 3),
+                         contacts_pp_engine=round(statistics.median(pick(eng, "contacts_pp")), 3),
                          ke_end_kernel_J="%.3g" % statistics.median(pick(kern, "ke")), ke_end_plugin_J="%.3g" % statistics.median(pick(flex, "ke")),
                          ke_end_lammps_J="%.3g" % statistics.median(pick(lmp, "ke")),
                          peak_kN_kernel=med(kern, "peak_kN"), peak_kN_plugin=med(flex, "peak_kN"), peak_kN_lammps=med(lmp, "peak_kN"),
+                         peak_kN_engine=med(eng, "peak_kN"),
                          depth_mm_kernel=med(kern, "depth", 1e3), depth_mm_plugin=med(flex, "depth", 1e3), depth_mm_lammps=med(lmp, "depth", 1e3),
+                         depth_mm_engine=med(eng, "depth", 1e3),
                          kernel_two_threads_speedup=round(statistics.median(k) / statistics.median(pick("kernel_j2")), 3) if kern == "kernel" else "",
                          lammps_law=LG.LABELS[lmp], steps=a.steps, rounds=a.rounds, dt=la.dt))
     print(f"\nus per particle-step, median (range) of {a.rounds} alternated rounds, one thread")
-    print(f"{'case':38s} {'kernel':>20s} {'plugin':>20s} {'LAMMPS':>20s} {'kernel/LAMMPS':>14s} {'plugin/LAMMPS':>14s} {'plugin/kernel':>14s}")
+    print(f"{'case':38s} {'kernel':>20s} {'plugin':>20s} {'grain engine':>20s} {'LAMMPS':>20s} {'kernel/LAMMPS':>14s} {'plugin/LAMMPS':>14s} {'engine/LAMMPS':>14s}")
     for r in rows:
-        print(f"{r['case']:38s} {r['kernel_us']:7.3f} ({r['kernel_range']:>11s}) {r['plugin_us']:7.3f} ({r['plugin_range']:>11s}) {r['lammps_us']:7.3f} ({r['lammps_range']:>11s}) "
-              f"{r['kernel_over_lammps']:14.2f} {r['plugin_over_lammps']:14.2f} {r['plugin_over_kernel']:14.2f}")
-    print("\nphysics (medians), kernel/plugin/LAMMPS: contacts per grain (the plugin's count includes the walls, LAMMPS's does not); "
+        print(f"{r['case']:38s} {r['kernel_us']:7.3f} ({r['kernel_range']:>11s}) {r['plugin_us']:7.3f} ({r['plugin_range']:>11s}) {r['engine_us']:7.3f} ({r['engine_range']:>11s}) "
+              f"{r['lammps_us']:7.3f} ({r['lammps_range']:>11s}) {r['kernel_over_lammps']:14.2f} {r['plugin_over_lammps']:14.2f} {r['engine_over_lammps']:14.2f}")
+    print("\nphysics (medians), kernel/plugin/grain engine/LAMMPS: contacts per grain (the plugin's count includes the walls, LAMMPS's does not); "
           "the sphere's peak force [kN] and depth [mm]")
     for r in rows:
-        print(f"{r['case']:38s} {r['contacts_pp_kernel']:.2f}/{r['contacts_pp_plugin']:.2f}/{r['contacts_pp_lammps']:.2f}"
-              + (f"; peak {r['peak_kN_kernel']}/{r['peak_kN_plugin']}/{r['peak_kN_lammps']} kN, depth {r['depth_mm_kernel']}/{r['depth_mm_plugin']}/{r['depth_mm_lammps']} mm"
+        print(f"{r['case']:38s} {r['contacts_pp_kernel']:.2f}/{r['contacts_pp_plugin']:.2f}/{r['contacts_pp_engine']:.2f}/{r['contacts_pp_lammps']:.2f}"
+              + (f"; peak {r['peak_kN_kernel']}/{r['peak_kN_plugin']}/{r['peak_kN_engine']}/{r['peak_kN_lammps']} kN, "
+                 f"depth {r['depth_mm_kernel']}/{r['depth_mm_plugin']}/{r['depth_mm_engine']}/{r['depth_mm_lammps']} mm"
                  if r["peak_kN_kernel"] != "" else ""))
     path = os.path.join(a.out, f"grain_kernel{tag}.csv")
     with open(path, "w", newline="") as fh:

@@ -21,9 +21,12 @@
 #
 # Engines (one thread each: this process is run with -j1 and OMP_NUM_THREADS=1; lmp serial,
 # without -sf omp):
-#   flex        our yf.engines() of the main job (ModuleParams.engines(0): rolling resistance 0.1,
-#               rolling stiffness 1), FlexTimeStepper turned off (dead) and dt held at --dt
-#   flex_norol  yf.engines(damping 0) without rolling resistance, dt held at --dt
+#   flex        our yf.engines() of the main job's impact (ModuleParams.engines(0): rolling resistance
+#               0.1, rolling stiffness 1, the grain-grain contacts in FlexGrainEngine),
+#               FlexTimeStepper turned off (dead) and dt held at --dt
+#   flex_norol  the same without rolling resistance, dt held at --dt
+#   loop, loop_norol  flex and flex_norol with the grain-grain contacts in the interaction loop
+#               (yf.engines() without grains=: as before FlexGrainEngine; bench/grain_kernel.py)
 #   shipped     ModuleParams.engines(0) as shipped: FlexTimeStepper (safety ModuleParams's) sets dt
 #   plain       plain YADE: InsertionSortCollider, Ig2_*_ScGeom, FrictPhys, CundallStrack,
 #               NewtonIntegrator (bench_grains.py's "builtin"), dt held at --dt
@@ -90,12 +93,15 @@ from yade import O, utils, geom  # noqa: E402
 from yade.minieigenHP import Vector3  # noqa: E402
 from yade.wrapper import FrictMat, PyRunner  # noqa: E402
 
+import yadeflex as yf  # noqa: E402
 from yadeflex.constants import G  # noqa: E402
 from yadeflex.module import ModuleParams, fill_radii  # noqa: E402
 from machine import machine_line  # noqa: E402
 
 ENGINES = ["flex", "flex_norol", "shipped", "plain", "lmp_hooke", "lmp_gran"]
-LABELS = {"flex": "yade-flex (rolling, dt held)", "flex_norol": "yade-flex (no rolling, dt held)", "shipped": "yade-flex as shipped (FlexTimeStepper)",
+LABELS = {"flex": "yade-flex (rolling, dt held)", "flex_norol": "yade-flex (no rolling, dt held)",
+          "loop": "yade-flex, grain contacts in the loop (rolling, dt held)", "loop_norol": "yade-flex, grain contacts in the loop (no rolling, dt held)",
+          "shipped": "yade-flex as shipped (FlexTimeStepper)",
           "plain": "plain YADE", "lmp_hooke": "LAMMPS gran/hooke/history", "lmp_gran": "LAMMPS granular + rolling sds"}
 
 
@@ -170,8 +176,14 @@ def sphere_of(a, grains, dt):
 def build_yade(a, p, grains, kind, copies, case):
     """Scene of `kind` (bench_grains.scene for the first copy, the others added the same way);
     returns (number of particles, impactor id or None)."""
-    bk = {"plain": "builtin", "flex": "flex", "shipped": "flex", "flex_norol": "norolling"}[kind]
+    bk = {"plain": "builtin", "flex": "flex", "shipped": "flex", "flex_norol": "norolling", "loop": "flex", "loop_norol": "norolling"}[kind]
     BG.scene(p, grains, bk, a.dt)
+    if kind in ("flex_norol", "loop", "loop_norol"):
+        # the impact's engines (ModuleParams.engines: the grain-grain contacts in FlexGrainEngine) without
+        # rolling resistance; loop*: with those contacts in the interaction loop, as before FlexGrainEngine
+        rf = p.preset()["rolling_friction"] if kind == "loop" else 0.0
+        O.engines = yf.engines(damping=0.0, timestep_safety=p.timestep_safety, rolling_stiffness=1.0 if rf > 0 else 0.0, rolling_friction=rf,
+                               grains=None if kind.startswith("loop") else "fill")
     fill = [m for m in O.materials if m.label == "fill"][0]
     cont = [m for m in O.materials if m.label == "container"][0]
     r_in = r_in_of(p, grains)
@@ -179,7 +191,7 @@ def build_yade(a, p, grains, kind, copies, case):
         O.bodies.append(geom.facetCylinder((ox, oy, 0.6 * p.height), r_in, 1.2 * p.height, segmentsNumber=48, wallMask=4, material=cont))
         for c, r in grains:
             O.bodies.append(utils.sphere(Vector3(c[0] + ox, c[1] + oy, c[2]), r, material=fill))
-    if kind in ("flex", "flex_norol"):
+    if kind in ("flex", "flex_norol", "loop", "loop_norol"):
         for e in O.engines:
             if e.label == "flexDt":
                 e.dead = True
@@ -214,7 +226,7 @@ def run_yade(a, p, grains, kind, copies, case, steps):
     grains_b = [b for b in O.bodies if b is not None and b.dynamic and b.id != imp and b.shape.__class__.__name__ == "Sphere"]
     ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in grains_b)
     vmax = max(b.state.vel.norm() for b in grains_b)
-    r = dict(us=1e6 * t / (steps * n), n=n, steps=steps, dt=O.dt, contacts_pp=O.interactions.countReal() / (copies * len(grains)), ke=ke, vmax=vmax)
+    r = dict(us=1e6 * t / (steps * n), n=n, steps=steps, dt=O.dt, contacts_pp=(O.interactions.countReal() + sum(e.contacts for e in O.engines if e.label == "grainEngine")) / (copies * len(grains)), ke=ke, vmax=vmax)
     if imp is not None:
         r.update(peak_kN=peak[0] / 1e3, depth=z0 - O.bodies[imp].state.pos[2], v_end=O.bodies[imp].state.vel[2])
     return r

@@ -51,15 +51,16 @@ def _lammps(rows):
 
 def _grain_kernel(rows):
     return [dict(r, kernel_text=f"{float(r['kernel_us']):.3f} ({r['kernel_range']})", plugin_text=f"{float(r['plugin_us']):.3f} ({r['plugin_range']})",
-                 lammps_text=f"{float(r['lammps_us']):.3f} ({r['lammps_range']})") for r in rows]
+                 lammps_text=f"{float(r['lammps_us']):.3f} ({r['lammps_range']})", engine_text=f"{float(r['engine_us']):.3f} ({r['engine_range']})") for r in rows]
 
 
 # name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
 TABLES = {
     "grain_kernel": dict(csv="grain_kernel.csv", rows=_grain_kernel, columns=[
-        ("case (one thread)", "case", text), ("kernel µs/particle-step", "kernel_text", text), ("plugin", "plugin_text", text),
-        ("LAMMPS", "lammps_text", text), ("LAMMPS law", "lammps_law", text), ("kernel / LAMMPS", "kernel_over_lammps", times(2)),
-        ("plugin / LAMMPS", "plugin_over_lammps", times(2)), ("plugin / kernel", "plugin_over_kernel", times(2)),
+        ("case (one thread)", "case", text), ("kernel µs/particle-step", "kernel_text", text), ("plugin, grain contacts in the loop", "plugin_text", text),
+        ("plugin with FlexGrainEngine", "engine_text", text), ("LAMMPS", "lammps_text", text), ("LAMMPS law", "lammps_law", text),
+        ("kernel / LAMMPS", "kernel_over_lammps", times(2)), ("plugin / LAMMPS", "plugin_over_lammps", times(2)),
+        ("with FlexGrainEngine / LAMMPS", "engine_over_lammps", times(2)), ("plugin / kernel", "plugin_over_kernel", times(2)),
         ("kernel's speed-up on two threads", "kernel_two_threads_speedup", lambda v: f"{float(v):.2f}x" if v else "")]),
     "lammps_grains": dict(csv="lammps_grains.csv", rows=_lammps, columns=[
         ("case (one thread)", "case", text), ("yade-flex µs/particle-step", "yadeflex_us_per_particle_step", fixed(3)),
