@@ -132,10 +132,7 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 				s        = State();
 				s.exists = true;
 				// (Ip2_FrictMat_FrictMat_FrictPhys with equal materials)
-				const double E = L.young, V = L.ksOverKn;
-				s.kn = 2 * E * R1 * E * R2 / (E * R1 + E * R2);
-				s.ks = 2 * E * R1 * V * E * R2 * V / (E * R1 * V + E * R2 * V);
-				if (!(s.ks == s.ks)) s.ks = 0; // (ksOverKn 0: 0 / 0)
+				L.stiffness(R1, R2, s.kn, s.ks);
 			}
 			const Vec3 n           = dist > 0 ? Vec3(d / dist) : (isNew ? Vec3(Vec3::UnitZ()) : Vec3(s.normal));
 			s.normal               = n;

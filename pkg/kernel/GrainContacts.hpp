@@ -34,6 +34,15 @@ struct GrainLaw {
 	double onsetFactor      = 2; ///< a deep onset: overlap > onsetFactor x approach x dt
 	bool   crossing         = true;
 	bool   trackEnergy      = true;
+	/// The stiffness a new contact of spheres of radii r1, r2 gets, with Ip2_FrictMat_FrictMat_FrictPhys's
+	/// arithmetic (ks 0 where that gives 0 / 0: ksOverKn 0).
+	void stiffness(double r1, double r2, double& kn, double& ks) const
+	{
+		const double E = young, V = ksOverKn;
+		kn = 2 * E * r1 * E * r2 / (E * r1 + E * r2);
+		ks = 2 * E * r1 * V * E * r2 * V / (E * r1 * V + E * r2 * V);
+		if (!(ks == ks)) ks = 0;
+	}
 };
 
 /// The spheres as the pass reads them (arrays by sphere index).

@@ -153,8 +153,8 @@ inline bool ownsCluster(const Mesh& mesh, const ElementNodes& self, int selfId, 
 	int                            nCl = 0, nSeen = 0;
 	cl.put(nCl++, { selfId, self, hit, n });
 	seen[nSeen++] = selfId;
-	for (int m = 0; m < nCl; ++m) { // breadth-first over linked neighbours
-		const Member cur = cl[m];
+	for (int m = 0; m < nCl; ++m) {    // breadth-first over linked neighbours
+		const Member& cur = cl[m]; // (slots stay where they are while members are added)
 		for (int k = 0; k < cur.e.nNodes; ++k) {
 			const std::vector<int>* els = mesh.elementsAt(cur.e.nodes[k]);
 			if (!els) continue;
@@ -326,7 +326,7 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 	};
 	auto holds = [](const ElementNodes& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
 	for (int m = 0; m < nCl; ++m) {                                                     // breadth-first over linked pairs
-		const Member cur = cl[m];
+		const Member& cur = cl[m];                                                  // (slots stay where they are while members are added)
 		// one element changes: (a', b) or (a, b')
 		for (int side = 0; side < 2; ++side) {
 			const ElementNodes& e       = side == 0 ? cur.a : cur.b;

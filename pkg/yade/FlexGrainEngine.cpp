@@ -1,6 +1,7 @@
 // yade-flex adapter: FlexGrainEngine (GPL-2.0-or-later). What it does: FlexGrainEngine.hpp.
 #include "FlexGrainEngine.hpp"
 #include "FlexContactGeom.hpp"
+#include "FlexElements.hpp"
 #include "FlexForces.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
@@ -75,7 +76,7 @@ bool FlexGrainEngine::gather()
 	for (long k = 0; k < n; ++k) {
 		const Body* b = bodies.body[ids[k]].get();
 		if (!b || b->material.get() != mat || !(b->groupMask & grainBit)) return false;
-		const Sphere* s = dynamic_cast<const Sphere*>(b->shape.get());
+		const Sphere* s = flexa::fastCast<Sphere>(b->shape.get());
 		if (!s) return false;
 		const State& st = *b->state;
 		pos[k]          = st.pos;
@@ -319,27 +320,31 @@ void FlexGrainEngine::action()
 	}
 }
 
-void FlexGrainEngine::addStepRows(Real* row, Real* rowRot, const std::vector<Real>& invSqrtMass, const std::vector<Real>& Imin) const
+void FlexGrainEngine::addStepRows(Real* row, Real* rowRot, BodyColumn invSqrtMass, BodyColumn Imin) const
 {
 	if (!gc || !nb || material < 0) return;
 	const FrictMat* mat = dynamic_cast<const FrictMat*>(scene->materials[material].get());
 	if (!mat) return;
-	const auto&  bodies = *scene->bodies;
-	const long   n      = (long)ids.size();
-	const auto&  f      = gc->first();
-	const auto&  sec    = gc->second();
-	const auto&  st     = gc->states();
-	const double E = mat->young, V = mat->poisson;
+	const auto&    bodies = *scene->bodies;
+	const long     n      = (long)ids.size();
+	const auto&    f      = gc->first();
+	const auto&    sec    = gc->second();
+	const auto&    st     = gc->states();
+	flex::GrainLaw L;
+	L.young    = mat->young;
+	L.ksOverKn = mat->poisson;
 	// the grains where they are now (the engine's arrays hold them as of its last step)
-	std::vector<flex::Vec3> x(n);
-	std::vector<double>     reach(n);
+	std::vector<flex::Vec3>& x     = stepPos;
+	std::vector<double>&     reach = stepReach;
+	x.resize(n);
+	reach.resize(n);
 	for (long k = 0; k < n; ++k) {
 		const Body* b = ids[k] < (Body::id_t)bodies.body.size() ? bodies.body[ids[k]].get() : nullptr;
 		x[k]          = b ? b->state->pos : pos[k];
 		reach[k]      = (long)f.size() == n + 1 ? nb->reach(x.data(), k) : 0;
 	}
 	auto addRot = [&](Body::id_t id, double k, double lever2) {
-		if (id < (Body::id_t)Imin.size() && Imin[id] > 0 && std::isfinite(lever2)) rowRot[id] += 2 * k * lever2 / Imin[id];
+		if (Imin[id] > 0 && std::isfinite(lever2)) rowRot[id] += 2 * k * lever2 / Imin[id];
 	};
 	for (long i = 0; i + 1 < (long)f.size() && i < n; ++i)
 		for (long k = f[i]; k < f[i + 1]; ++k) {
@@ -354,13 +359,10 @@ void FlexGrainEngine::addStepRows(Real* row, Real* rowRot, const std::vector<Rea
 				continue;
 			// the stiffness it has, or the one Ip2_FrictMat_FrictMat_FrictPhys will give it
 			double kn = s.kn, ks = s.ks;
-			if (!s.exists) {
-				kn = 2 * E * R1 * E * R2 / (E * R1 + E * R2);
-				ks = (V > 0) ? 2 * E * R1 * V * E * R2 * V / (E * R1 * V + E * R2 * V) : 0.0;
-			}
+			if (!s.exists) L.stiffness(R1, R2, kn, ks);
 			flex::RowSide sa, sb;
-			sa.invSqrtMass[0] = a < (Body::id_t)invSqrtMass.size() ? invSqrtMass[a] : 0;
-			sb.invSqrtMass[0] = b < (Body::id_t)invSqrtMass.size() ? invSqrtMass[b] : 0;
+			sa.invSqrtMass[0] = invSqrtMass[a];
+			sb.invSqrtMass[0] = invSqrtMass[b];
 			double ra[3], rb[3];
 			flex::potentialContactRows(sa, sb, std::max(kn, ks), ra, rb);
 			if (sa.invSqrtMass[0] != 0) {

@@ -37,20 +37,29 @@ class FlexGrainEngine : public GlobalEngine {
 	int                                           elastIx = -1, frictIx = -1, rollIx = -1;
 	Law2_FlexContactGeom_FrictPhys_CundallStrack* law = nullptr;
 
-	long           lastIter = -2; // the iteration of the last step
-	flex::GrainLaw grainLaw() const;
-	bool           gather(); // false: a grain is gone or changed (scan again)
-	void           scan();
+	mutable std::vector<flex::Vec3> stepPos; // (addStepRows' scratch)
+	mutable std::vector<double>     stepReach;
+	long                            lastIter = -2; // the iteration of the last step
+	flex::GrainLaw                  grainLaw() const;
+	bool                            gather(); // false: a grain is gone or changed (scan again)
+	void                            scan();
 
 public:
 	/// Throws std::invalid_argument naming the first bad setting.
 	void validate() const;
 	void postLoad(FlexGrainEngine&) { validate(); }
 	void action() override;
+	/// One Real per body id read from a table of structs (the field of body 0 at `first`, the
+	/// next `stride` bytes on; `n` bodies), 0 for an id past the table.
+	struct BodyColumn {
+		const unsigned char* first;
+		size_t               stride, n;
+		Real operator[](Body::id_t id) const { return id >= 0 && (size_t)id < n ? *reinterpret_cast<const Real*>(first + (size_t)id * stride) : 0; }
+	};
 	/// Adds the time-step rows of the grains' pairs (see FlexStepperContacts.hpp): every listed
 	/// pair that can touch before the list is built again, with the stiffness its contact has
 	/// or will have, and the rolling springs of the contacts. invSqrtMass and Imin by body id.
-	void addStepRows(Real* row, Real* rowRot, const std::vector<Real>& invSqrtMass, const std::vector<Real>& Imin) const;
+	void addStepRows(Real* row, Real* rowRot, BodyColumn invSqrtMass, BodyColumn Imin) const;
 	/// A contact carrying force at the last step, as the step saw it (positions before the
 	/// integrator moved them): forces on id2, normal from id1 to id2.
 	struct ContactRow {
@@ -119,5 +128,14 @@ template <class F> void FlexGrainEngine::forEachContact(F f) const
 		f(r);
 	});
 }
+
+namespace flexa {
+	/// f(engine) for each FlexGrainEngine of the scene, in O.engines' order.
+	template <class F> void forEachGrainEngine(const Scene* scene, F f)
+	{
+		for (const auto& e : scene->engines)
+			if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get())) f(*ge);
+	}
+} // namespace flexa
 
 } // namespace yade

@@ -72,11 +72,11 @@ namespace {
 
 boost::python::dict FlexSnapshot::bodies() const
 {
-	const Scene*            scene = Omega::instance().getScene().get();
-	const auto&             body  = scene->bodies->body;
-	const size_t            n     = body.size();
-	std::vector<long>       group(n, kErased), clumped(n, 0), blocked(n, 0);
-	std::vector<double>     pos, vel, angVel, mass(n, 0), radius(n, std::numeric_limits<double>::quiet_NaN());
+	const Scene*        scene = Omega::instance().getScene().get();
+	const auto&         body  = scene->bodies->body;
+	const size_t        n     = body.size();
+	std::vector<long>   group(n, kErased), clumped(n, 0), blocked(n, 0);
+	std::vector<double> pos, vel, angVel, mass(n, 0), radius(n, std::numeric_limits<double>::quiet_NaN());
 	pos.reserve(3 * n);
 	vel.reserve(3 * n);
 	angVel.reserve(3 * n);
@@ -97,7 +97,8 @@ boost::python::dict FlexSnapshot::bodies() const
 		push3(angVel, st.angVel);
 		mass[id]    = st.mass;
 		blocked[id] = (long)std::bitset<8 * sizeof(unsigned)>(st.blockedDOFs & State::DOF_ALL).count();
-		if (group[id] == kNodes) radius[id] = static_cast<const FlexNode*>(sh)->radius;
+		if (group[id] == kNodes)
+			radius[id] = static_cast<const FlexNode*>(sh)->radius;
 		else if (group[id] == kSpheres)
 			radius[id] = static_cast<const Sphere*>(sh)->radius;
 	}
@@ -154,7 +155,8 @@ boost::python::dict FlexSnapshot::contacts() const
 	// the centre of one side without an axis point: a sphere's centre, else the contact point
 	auto centre = [&](Body::id_t id, const GenericSpheresContact* g, std::vector<double>& out) {
 		const Body* b = (id >= 0 && (size_t)id < bodies.size()) ? bodies[id].get() : nullptr;
-		if (b && b->state && flexa::fastCast<Sphere>(b->shape.get())) push3(out, b->state->pos);
+		if (b && b->state && flexa::fastCast<Sphere>(b->shape.get()))
+			push3(out, b->state->pos);
 		else if (g)
 			push3(out, g->contactPoint);
 		else
@@ -189,38 +191,33 @@ boost::python::dict FlexSnapshot::contacts() const
 		push3(fn, ph->normalForce);
 		push3(fs, ph->shearForce);
 		plastic.push_back(fg ? fg->plasticOverlap : 0.0);
-		if (fg) depth.push_back(fg->penetrationDepth);
+		if (fg)
+			depth.push_back(fg->penetrationDepth);
 		else if (sg)
 			depth.push_back(sg->penetrationDepth);
 		else
 			depth.push_back(std::numeric_limits<double>::quiet_NaN());
 	}
 	// the grains' contacts that a FlexGrainEngine keeps out of the interactions (as their step saw them)
-	for (const auto& e : scene->engines)
-		if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get()))
-			ge->forEachContact([&](const FlexGrainEngine::ContactRow& r) {
-				id1.push_back(r.id1);
-				id2.push_back(r.id2);
-				push3(end1, r.x1);
-				push3(end2, r.x2);
-				push3(point, r.point);
-				push3(normal, r.normal);
-				push3(fn, r.normalForce);
-				push3(fs, r.shearForce);
-				depth.push_back(r.depth);
-				plastic.push_back(0.0);
-			});
+	flexa::forEachGrainEngine(scene, [&](const FlexGrainEngine& ge) {
+		ge.forEachContact([&](const FlexGrainEngine::ContactRow& r) {
+			id1.push_back(r.id1);
+			id2.push_back(r.id2);
+			push3(end1, r.x1);
+			push3(end2, r.x2);
+			push3(point, r.point);
+			push3(normal, r.normal);
+			push3(fn, r.normalForce);
+			push3(fs, r.shearForce);
+			depth.push_back(r.depth);
+			plastic.push_back(0.0);
+		});
+	});
 	boost::python::dict d;
 	put<long>(d, { { "id1", &id1 }, { "id2", &id2 } });
 	put<double>(d,
-	            { { "end1", &end1 },
-	              { "end2", &end2 },
-	              { "contactPoint", &point },
-	              { "normal", &normal },
-	              { "normalForce", &fn },
-	              { "shearForce", &fs },
-	              { "penetrationDepth", &depth },
-	              { "plasticOverlap", &plastic } });
+	        { { "end1", &end1 }, { "end2", &end2 }, { "contactPoint", &point }, { "normal", &normal }, { "normalForce", &fn }, { "shearForce", &fs },
+	                { "penetrationDepth", &depth }, { "plasticOverlap", &plastic } });
 	return d;
 }
 

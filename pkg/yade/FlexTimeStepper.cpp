@@ -57,7 +57,8 @@ namespace {
 				shares.push_back({ e, e.cyl->massShare, e.cyl->inertiaShare, e.cyl->stepOmega2(), (Body::id_t)id });
 			else if (e.fac && e.fac->attached) {
 				const shared_ptr<Body>& b = bodies[id];
-				shares.push_back({ e, e.fac->massShare, e.fac->inertiaShare, e.fac->stepOmega2(b ? b->material.get() : nullptr), (Body::id_t)id });
+				shares.push_back(
+				        { e, e.fac->massShare, e.fac->inertiaShare, e.fac->stepOmega2(b ? b->material.get() : nullptr), (Body::id_t)id });
 			}
 		}
 		for (const Share& sh : shares)
@@ -160,12 +161,11 @@ void FlexTimeStepper::action()
 	const size_t nIntr        = scene->interactions->size();
 	// and whenever a FlexGrainEngine built its neighbour list again (it alone adds grain pairs)
 	long grainBuilds = 0;
-	for (const auto& e : scene->engines)
-		if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get())) grainBuilds += ge->builds;
-	const bool changed = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds;
-	lastGrainBuilds    = grainBuilds;
-	lastInteractionCount      = nIntr;
-	lastColliderRuns          = colliderRuns;
+	flexa::forEachGrainEngine(scene, [&](const FlexGrainEngine& ge) { grainBuilds += ge.builds; });
+	const bool changed   = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds;
+	lastGrainBuilds      = grainBuilds;
+	lastInteractionCount = nIntr;
+	lastColliderRuns     = colliderRuns;
 	if (!markUnreachable) flexa::sceneState(scene).unreachable.set = false; // switched off: retire the marks
 	if (scene->iter % interval != 0 && dtCritical > 0 && !changed) return;
 	dtCritical   = criticalImpl(markUnreachable);
@@ -176,8 +176,9 @@ void FlexTimeStepper::action()
 		if (dtCritical < minDtFraction * dtReference) {
 			std::ostringstream os;
 			os.precision(4);
-			os << "the critical time step collapsed from " << dtReference << " s to " << dtCritical << " s (below FlexTimeStepper.minDtFraction = "
-			   << minDtFraction << " of it) at iter " << scene->iter << ", t = " << scene->time << " s; it is set by body #" << stiffestBody;
+			os << "the critical time step collapsed from " << dtReference << " s to " << dtCritical
+			   << " s (below FlexTimeStepper.minDtFraction = " << minDtFraction << " of it) at iter " << scene->iter << ", t = " << scene->time
+			   << " s; it is set by body #" << stiffestBody;
 			if (const Body* b = flexa::bodyAt(scene, stiffestBody))
 				if (b->shape) os << " (" << b->shape->getClassName() << ")";
 			throw flexa::Unstable(os.str());

@@ -64,6 +64,23 @@ GrainLaw law(double tanPhi = 0.5, double rolling = 0)
 }
 } // namespace
 
+TEST(GrainLaw, StiffnessIsIp2sForEqualMaterials)
+{
+	// Ip2_FrictMat_FrictMat_FrictPhys: kn = 2 E1 r1 E2 r2 / (E1 r1 + E2 r2), ks = the same with
+	// E v for E; equal spheres: kn = E r, ks = v E r
+	GrainLaw L = law();
+	double   kn, ks;
+	L.stiffness(0.02, 0.02, kn, ks);
+	EXPECT_NEAR(kn, 1e8 * 0.02, 1e-9 * kn);
+	EXPECT_NEAR(ks, 0.3 * 1e8 * 0.02, 1e-9 * ks);
+	L.stiffness(0.01, 0.03, kn, ks); // 2 E r1 r2 / (r1 + r2)
+	EXPECT_NEAR(kn, 2 * 1e8 * 0.01 * 0.03 / 0.04, 1e-9 * kn);
+	EXPECT_NEAR(ks / kn, 0.3, 1e-12);
+	L.ksOverKn = 0; // 0 / 0 in Ip2's arithmetic: no shear stiffness, not NaN
+	L.stiffness(0.01, 0.03, kn, ks);
+	EXPECT_EQ(ks, 0.0);
+}
+
 TEST(GrainNeighbours, ListsEveryPairWithinReachOnce)
 {
 	for (unsigned seed : { 1u, 2u, 3u }) {

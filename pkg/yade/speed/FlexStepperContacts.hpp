@@ -190,15 +190,14 @@ namespace flexa {
 					}
 				skippedCount = skipped;
 				// the grains' pairs, which FlexGrainEngine keeps out of the interactions
-				for (const auto& e : scene->engines)
-					if (const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e.get())) {
-						std::vector<Real> invSqrt(sb.size()), imin(sb.size());
-						for (size_t i = 0; i < sb.size(); ++i) {
-							invSqrt[i] = sb[i].invSqrtMass;
-							imin[i]    = sb[i].Imin;
-						}
-						ge->addStepRows(row.data(), rowRot.data(), invSqrt, imin);
-					}
+				if (!sb.empty())
+					flexa::forEachGrainEngine(scene, [&](const FlexGrainEngine& ge) {
+						auto column = [&](const Real& first) {
+							return FlexGrainEngine::BodyColumn { reinterpret_cast<const unsigned char*>(&first), sizeof(StepBody),
+								sb.size() };
+						};
+						ge.addStepRows(row.data(), rowRot.data(), column(sb[0].invSqrtMass), column(sb[0].Imin));
+					});
 				if (mark && canSkip) { // valid until the collider runs (else none: marks.set stays false)
 					const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
 					marks.collider                    = collider;
@@ -421,7 +420,7 @@ namespace flexa {
 				if (!g) return;
 				const Body::id_t id[2]    = { I.getId1(), I.getId2() };
 				const Real       lever[2] = { g->refR1, g->refR2 };
-				Real             w[2] = { 1, 1 }, ia[2], rows[2];
+				Real             w[2]     = { 1, 1 }, ia[2], rows[2];
 				for (int a = 0; a < 2; ++a)
 					ia[a] = invSqrtMass(id[a]);
 				flex::contactRows(w, ia, 2, std::max(ph->kn, ph->ks), rows);
