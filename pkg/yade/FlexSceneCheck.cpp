@@ -93,7 +93,8 @@ namespace flexa {
 			const FrictMat* f = dynamic_cast<const FrictMat*>(m);
 			if (!f) return;
 			if (!(std::isfinite(f->young) && f->young > 0)) bad("young", f->young, "finite and positive");
-			if (!(std::isfinite(f->poisson) && f->poisson >= 0)) bad("poisson", f->poisson, "finite and >= 0");
+			// (ks/kn: YADE's Ip2_FrictMat_FrictMat_FrictPhys gives two bodies of poisson 0 a shear stiffness of 0 / 0)
+			if (!(std::isfinite(f->poisson) && f->poisson > 0)) bad("poisson", f->poisson, "finite and positive (ks/kn of its contacts)");
 			if (!(std::isfinite(f->frictionAngle) && f->frictionAngle >= 0)) bad("frictionAngle", f->frictionAngle, "finite and >= 0");
 			if (const FlexMat* fm = dynamic_cast<const FlexMat*>(m)) {
 				if (!(std::isnan(fm->elementYoung) || (std::isfinite(fm->elementYoung) && fm->elementYoung > 0)))

@@ -24,7 +24,7 @@ def _density(name, v):
                       "inertia forces with it): for quasi-static loading only", stacklevel=3)
     return v
 FRICTION_DEG = C.Range(0.0, 90.0, "deg", hi_open=True)
-CONTACT_RATIO = C.Range(0.0, 1.0, note="ks/kn")
+CONTACT_RATIO = C.Range(0.0, 1.0, lo_open=True, note="ks/kn")
 
 
 def flex_material(young, density, friction_deg=30.0, beam_poisson=0.3, contact_ratio=0.25,

@@ -65,6 +65,28 @@ def test_bad_materials(scene):
         yf.cylinder(n0, n1, 0.01, "plain")
 
 
+def test_a_zero_contact_ratio_is_refused_by_name(scene):
+    """ks/kn 0 (FrictMat.poisson) gives two such bodies a shear stiffness of 0 / 0 in YADE's
+    Ip2_FrictMat_FrictMat_FrictPhys: NaN forces. The builders refuse it, and so does the first step
+    of a scene whose material was set by hand, naming the material and the field, before any NaN."""
+    with pytest.raises(ValueError, match="contact_ratio"):
+        yf.flex_material(young=1e9, density=1000, contact_ratio=0)
+    with pytest.raises(ValueError, match="contact_ratio"):
+        yf.membrane_material(250e3, 0.3, contact_ratio=0)
+    m = FrictMat(density=2650, young=1e8, poisson=0.0, frictionAngle=0.5, label="slick")
+    O.materials.append(m)
+    a, b = sphere((0, 0, 0), 0.01), sphere((0.005, 0, 0.019), 0.01)
+    for i in (a, b):
+        O.bodies[i].material = m
+    O.bodies[a].state.blockedDOFs = "xyzXYZ"
+    O.bodies[b].state.vel = (0, 0, -0.1)
+    for grains in (None, "slick"):
+        O.engines = yf.engines(grains=grains)
+        with pytest.raises(ValueError, match=r"material 'slick' \(FrictMat\)\.poisson must be finite and positive \(ks/kn of its contacts\), got 0"):
+            O.step()
+        assert all(math.isfinite(x) for i in (a, b) for x in O.bodies[i].state.vel)
+
+
 def test_massless_free_node_rejected_before_running(scene):
     yf.node((0, 0, 0), 0.01)
     with pytest.raises(ValueError, match="no mass"):
