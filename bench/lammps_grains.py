@@ -347,6 +347,8 @@ def med_range(v):
 
 def main():
     a = parse()
+    if not shutil.which(a.lmp):
+        sys.exit(f"lammps_grains: LAMMPS ({a.lmp}) not found: install it (apt-get install lammps) or give its path with --lmp")
     p = ModuleParams()
     tag = "_quick" if a.quick else ""
     os.makedirs(a.out, exist_ok=True)

@@ -3,6 +3,7 @@
 #include "FlexProtocol.hpp"
 #include "FlexBoundDispatcher.hpp"
 #include "FlexFacet.hpp"
+#include "FlexElements.hpp"
 #include "FlexGrainEngine.hpp"
 
 #include <kernel/TimeStep.hpp>
@@ -10,6 +11,7 @@
 #include <core/InteractionLoop.hpp>
 #include <pkg/common/InsertionSortCollider.hpp>
 #include <pkg/common/ParallelEngine.hpp>
+#include <pkg/dem/Ig2_Facet_Sphere_ScGeom.hpp>
 #include <pkg/common/PeriodicEngines.hpp>
 
 #include <functional>
@@ -173,6 +175,17 @@ namespace flexa {
 		return t == typeid(Ig2_Sphere_Sphere_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexCylinder_FlexContactGeom)
 		        || t == typeid(Ig2_FlexCylinder_FlexCylinder_FlexContactGeom) || t == typeid(Ig2_Sphere_FlexFacet_FlexContactGeom)
 		        || t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
+	}
+	bool skipsMarkedAsApart(const IGeomFunctor* f) { return f && typeid(*f) == typeid(Ig2_Facet_Sphere_ScGeom); }
+	bool marksHold(const Scene* scene)
+	{
+		const UnreachableMarks& m = sceneState(scene).unreachable;
+		if (!m.valid(scene)) return false;
+		for (Body::id_t id : m.still) {
+			const Body* b = bodyAt(scene, id);
+			if (!b || !standsStill(*b)) return false;
+		}
+		return true;
 	}
 } // namespace flexa
 

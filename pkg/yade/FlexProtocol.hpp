@@ -67,6 +67,16 @@ namespace flexa {
 	/// classes, a subclass might override go() without that test. FlexInteractionLoop leaves such
 	/// pairs out before reading their bodies; keep this list and the functors in step.
 	bool readsUnreachableMarks(const IGeomFunctor* f);
+	/// Whether this geometry functor (YADE's own) returns false, changing nothing, for a pair
+	/// without geometry whose shapes do not touch: FlexInteractionLoop may then leave out such a
+	/// pair while it is marked, as it does for the readers above (Ig2_Facet_Sphere_ScGeom: its
+	/// sphere farther than its radius from the facet's triangle; the exact class).
+	bool skipsMarkedAsApart(const IGeomFunctor* f);
+	/// Whether a body stays where it is unless a script moves it: not dynamic, no velocity.
+	inline bool standsStill(const Body& b) { return !b.isDynamic() && b.state && b.state->vel == Vector3r::Zero() && b.state->angVel == Vector3r::Zero(); }
+	/// Whether the marks hold on this step for the loop: valid, and each body they take as
+	/// standing still still stands (one test per such body, once per step).
+	bool marksHold(const Scene* scene);
 
 	// ---- the collider and the order
 	/// How many times the scene's InsertionSortCollider (the last one in O.engines) has run (-1:

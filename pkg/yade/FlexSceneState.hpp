@@ -48,6 +48,10 @@ namespace flexa {
 		const int*                            runs          = nullptr; // its run count (InsertionSortCollider::numAction)
 		int                                   runsAtMarking = -1;
 		size_t                                colliderIx    = 0; // its place in the scene's engine list
+		/// Bodies the marks take as standing still (YADE facets that are not dynamic and have no
+		/// velocity: flexa::standsStill), which no sweep bounds: FlexInteractionLoop holds the marks
+		/// only while each still stands.
+		std::vector<Body::id_t> still;
 		/// Whether the marks hold for their scene s: made, its collider still the one in its engine
 		/// list (O.engines replaced: the new list's collider has its own bounds, and the old one's
 		/// count would never move again), and that collider has not run since (its count is read

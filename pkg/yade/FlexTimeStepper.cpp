@@ -136,6 +136,7 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 	ContactRowsPass pass(scene, prefetch, skipUnreachable, mark, nullptr);
 	const Real      wc = pass.run(stiffestContactBody, skippedCache);
 	const Real      wb = bondsOmega2(scene, pass.bodies(), stiffestBondBody);
+	stillCache         = pass.still();
 	stiffestCache      = wc >= wb ? stiffestContactBody : stiffestBondBody;
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
 }
@@ -162,7 +163,14 @@ void FlexTimeStepper::action()
 	// and whenever a FlexGrainEngine built its neighbour list again (it alone adds grain pairs)
 	long grainBuilds = 0;
 	flexa::forEachGrainEngine(scene, [&](const FlexGrainEngine& ge) { grainBuilds += ge.builds; });
-	const bool changed   = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds;
+	// and whenever a facet the last estimate took as standing still moved (its pairs were left out)
+	bool stillMoved = false;
+	for (Body::id_t id : stillCache) {
+		const Body* b = flexa::bodyAt(scene, id);
+		stillMoved |= !b || !flexa::standsStill(*b);
+	}
+	const bool changed
+	        = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds || stillMoved;
 	lastGrainBuilds      = grainBuilds;
 	lastInteractionCount = nIntr;
 	lastColliderRuns     = colliderRuns;

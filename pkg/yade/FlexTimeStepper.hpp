@@ -16,6 +16,7 @@ class FlexTimeStepper : public GlobalEngine {
 	// where the last bounds came from (const estimates record them)
 	mutable Body::id_t stiffestBondBody = -1, stiffestContactBody = -1, stiffestCache = -1;
 	mutable long       skippedCache = 0;
+	mutable std::vector<Body::id_t> stillCache; // the facets the last estimate took as standing still
 
 public:
 	/// Largest omega^2 of bonds and of contacts (see pkg/kernel/TimeStep.hpp) [1/s^2].
@@ -39,8 +40,8 @@ public:
 		((int, interval, 50, Attr::triggerPostLoad, "Recompute every this many steps, >= 1 [-]"))
 		((Real, dtCritical, NaN, Attr::readonly, "Last critical step [s]"))
 		((Body::id_t, stiffestBody, -1, Attr::readonly, "Body that set the last critical step: the element with the largest bond omega^2, or the body (node, sphere) with the largest contact row, whichever bound is larger [-]"))
-		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact (for comparisons)."))
-		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; see bench/README.md). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
+		((bool, skipUnreachable, true, , "Leave out potential contacts that cannot start before the collider runs again (their gap exceeds how far both sides can still travel inside the sweep of their bounds; needs an InsertionSortCollider before this engine; not in periodic scenes). The yade-flex geometry functors (and FlexInteractionLoop, for YADE's facet-sphere functor) then also skip those pairs until the collider runs again, instead of computing their distance at every step. False: count every potential contact (for comparisons)."))
+		((bool, markUnreachable, true, , "With skipUnreachable: also let the yade-flex geometry functors skip the pairs left out, until the collider runs again (they cannot touch before then, so results are the same bit for bit; see bench/README.md); and leave out the pairs of YADE facets that stand still (not dynamic, no velocity: a container's sides), while they do (the estimate is made again when one moves). A body moved by assigning its position (not by the integrator) is seen by the collider one step late; a skipped pair may then miss that one step of contact, as YADE's collider misses a pair it never listed."))
 		((bool, prefetch, true, , "Ask for the interactions' data a few iterations ahead in the loop over interactions (same results; False: for comparisons)"))
 		((long, skippedPairs, 0, Attr::readonly, "Potential contacts left out of the last estimate by :yref:`FlexTimeStepper.skipUnreachable` [-]"))
 		((Real, minDtFraction, 0, Attr::triggerPostLoad, "Stop the run (yadeflex.Unstable, naming the stiffest body) when the critical step falls below this fraction of dtReference: a collapsed step (a crushed facet, a light node under a stiff contact) would run on for ever at a vanishing step; 0: never [-]"))

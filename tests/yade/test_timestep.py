@@ -192,6 +192,21 @@ def _sheet_target():
     return (0.1, 0.9), 0.02, 0.03
 
 
+def _facet_box_target():
+    """An open box of YADE facets (a container's sides, standing still), 0.5 x 0.5 x 0.3 m."""
+    from yade import geom
+    from yade.wrapper import FrictMat
+    mat = FrictMat(young=1e8, poisson=0.25, density=1000, frictionAngle=math.radians(20))
+    O.materials.append(mat)
+    O.bodies.append(geom.facetBox((0.25, 0.25, 0.15), (0.25, 0.25, 0.15), wallMask=31, material=mat))
+    return (0.05, 0.45), 0.012, 0.05
+
+
+def _facets_in(pairs):
+    """How many of the pairs (id1, id2) have a YADE facet."""
+    return sum(any(O.bodies[i].shape.__class__.__name__ == "Facet" for i in p) for p in pairs)
+
+
 def _shower(target, seed):
     """Build the target scene, add 40 small balls falling onto it, and the engines."""
     import random
@@ -203,14 +218,16 @@ def _shower(target, seed):
     O.engines = yf.engines()
 
 
-@pytest.mark.parametrize("target,min_checked", [(_net_target, 10000), (_sheet_target, 1000)], ids=["net", "sheet"])
+@pytest.mark.parametrize("target,min_checked", [(_net_target, 10000), (_sheet_target, 1000), (_facet_box_target, 1000)],
+                         ids=["net", "sheet", "facet_box"])
 def test_pairs_left_out_of_the_estimate_do_not_touch_before_the_collider_runs(scene, target, min_checked):
     """The stepper leaves out potential contacts whose gap exceeds how far both sides can still
     travel inside their bounds' sweep: none of them may touch before the collider runs again
-    (when the estimate is redone). A net hit at 10 m/s by a ball, or a sheet hit at 6 m/s, each
-    with a shower of 40 small balls (sphere-sphere, sphere-cylinder, cylinder-cylinder,
-    sphere-facet pairs); the rule must also leave pairs out (the check is not vacuous) and some of
-    them must touch later (it is tested near its edge)."""
+    (when the estimate is redone). A net hit at 10 m/s by a ball, a sheet hit at 6 m/s, or a box
+    of YADE facets standing still (they go nowhere), each with a shower of 40 small balls
+    (sphere-sphere, sphere-cylinder, cylinder-cylinder, sphere-facet, sphere-YADE facet pairs);
+    the rule must also leave pairs out (the check is not vacuous) and some of them must touch
+    later (it is tested near its edge)."""
     _shower(target, seed=5)
     checked, touched_later = _check_left_out_pairs(3000)
     assert checked > min_checked
@@ -221,8 +238,9 @@ def _state():
     return [(tuple(b.state.pos), tuple(b.state.vel), tuple(b.state.angVel)) for b in O.bodies]
 
 
-@pytest.mark.parametrize("target,steps", [(_net_target, 20000), (_sheet_target, 3000)], ids=["net", "sheet"])
-def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps):
+@pytest.mark.parametrize("target,steps,min_skipped,min_facets", [(_net_target, 20000, 3000, 0), (_sheet_target, 3000, 3000, 0),
+                                                                  (_facet_box_target, 3000, 300, 300)], ids=["net", "sheet", "facet_box"])
+def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps, min_skipped, min_facets):
     """With markUnreachable the geometry functors skip the pairs the estimate left out, until
     the collider runs again. Those pairs cannot touch before then, so the run must be the same
     bit for bit as one that tests them (one thread: the force sums are then in a fixed order),
@@ -235,17 +253,51 @@ def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps
         O.loadTmp("marks")
         st, col = O.engines[-2], next(e for e in O.engines if e.label == "collider")
         st.markUnreachable = mark
-        n0, skipped, touched = col.numAction, 0, set()
+        n0, skipped, facets, touched = col.numAction, 0, 0, set()
         for _ in range(steps // 10):
             for _ in range(10):
                 O.step()
             skipped += st.skippedPairs
+            if min_facets:
+                facets += _facets_in(st.unreachablePairs())
             touched |= {(i.id1, i.id2) for i in O.interactions if i.isReal}
-        runs[mark] = (_state(), O.dt, O.energy.total(), col.numAction - n0, skipped, len(touched))
+        runs[mark] = (_state(), O.dt, O.energy.total(), col.numAction - n0, skipped, len(touched), facets)
     on, off = runs[True], runs[False]
     assert on[0] == off[0] and on[1] == off[1] and on[2] == off[2]
-    # not vacuous: collider runs, pairs skipped (summed over the samples), distinct contacts
-    assert on[3] > 100 and on[4] > 3000 and on[5] > 20, on[3:]
+    # not vacuous: collider runs, pairs skipped (summed over the samples; those with a YADE facet),
+    # distinct contacts
+    assert on[3] > 100 and on[4] > min_skipped and on[5] > 20 and on[6] >= min_facets, on[3:]
+
+
+def test_the_pairs_of_a_facet_that_starts_moving_are_tested_again(scene):
+    """The pairs of a YADE facet standing still are left out (it goes nowhere) and the loop
+    skips them. When a script gives the facet a velocity, the marks no longer hold: the loop tests
+    its pairs again at once and the stepper estimates again, so the run is the same bit for bit
+    as one without marks, and the moving side does meet the grains."""
+    _shower(_facet_box_target, seed=11)
+    side = [b.id for b in O.bodies if b.shape.__class__.__name__ == "Facet" and max(b.shape.vertices[k][0] + b.state.pos[0] for k in range(3)) < 1e-9]
+    assert len(side) == 2  # the two triangles of the side x = 0
+    O.trackEnergy = True
+    O.saveTmp("moving")
+    runs = {}
+    for mark in (True, False):
+        O.loadTmp("moving")
+        st = O.engines[-2]
+        st.markUnreachable = mark
+        left_out = 0
+        for _ in range(40):
+            O.run(10, True)
+            left_out += _facets_in(st.unreachablePairs())
+        for f in side:
+            O.bodies[f].state.vel = (3.0, 0, 0)  # pushed into the box
+        met = set()
+        while O.bodies[side[0]].state.pos[0] < 0.25:  # (the box is 0.5 m wide)
+            O.step()
+            met |= {i.id2 if i.id1 in side else i.id1 for i in O.interactions if i.isReal and (i.id1 in side or i.id2 in side)}
+        runs[mark] = (_state(), O.dt, O.energy.total(), left_out, len(met))
+    on, off = runs[True], runs[False]
+    assert on[0] == off[0] and on[1] == off[1] and on[2] == off[2]
+    assert on[3] > 20 and on[4] > 3, on[3:]  # facet pairs were left out while the box stood; the side met grains moving
 
 
 def test_a_teleported_body_is_seen_one_step_late_by_a_skipped_pair(scene):

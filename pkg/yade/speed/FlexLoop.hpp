@@ -102,13 +102,14 @@ private:
 	// the scene changed): the table is filled from these bodies only, every other entry keeps
 	// r = -1 (a body made a Sphere since then takes the full path, as any non-sphere)
 	std::vector<Body::id_t> sphereIds;
+	std::vector<char>       isSphereId; // by id: 1 for the bodies in sphereIds
 	const Scene*            sphereIdsScene  = nullptr;
 	long                    sphereIdsBodies = -1;
 	// contacts the fused path could take on the last step (fuseSpheres; -1: not counted yet):
 	// the table is made when this or lastCandidates is not 0
 	long lastFusable = -1;
 	// pairs that quickReject could have judged on the last step (no contact, and the sphere-sphere
-	// functor or none cached yet); -1: not counted yet. The table is made only when this is not 0
+	// functor, or none cached yet between two bodies of sphereIds); -1: not counted yet. The table is made only when this is not 0
 	// (a net of wires has no sphere pairs: making the table for nothing cost it 5 us of a 35 us step)
 	long lastCandidates = -1;
 	// the threads' own sums of the contact forces (threadSums, several threads)

@@ -37,10 +37,12 @@ namespace flexa {
 		// (flexa::UnreachableMarks), for the functors that read these marks: such a pair, while it
 		// has no geometry, is skipped here before its bodies are touched, which is exactly what
 		// happens inside the functor (it returns false first thing) and after it in the loop
-		// (nothing for a pair that was not real).
+		// (nothing for a pair that was not real). Also for the functors that return false for
+		// shapes apart (flexa::skipsMarkedAsApart: a grain beside a YADE facet), where the marks
+		// hold (flexa::marksHold: their facets have not started turning).
 		struct Marked {
 			bool                                     valid   = false;
-			const std::vector<const IGeomFunctor*>*  readers = nullptr; // flexa::readsUnreachableMarks, of this loop's functors
+			const std::vector<const IGeomFunctor*>*  readers = nullptr; // readsUnreachableMarks and skipsMarkedAsApart, of this loop's functors
 			const std::pair<Body::id_t, Body::id_t>* pairs   = nullptr; // the marks, by Interaction::linIx
 			size_t                                   nPairs  = 0;
 			Marked()                                         = default;
@@ -48,7 +50,7 @@ namespace flexa {
 			        : readers(r)
 			{
 				const flexa::UnreachableMarks& m = flexa::sceneState(scene).unreachable;
-				valid                            = m.valid(scene);
+				valid                            = flexa::marksHold(scene);
 				if (valid) {
 					pairs  = m.pair.data();
 					nPairs = m.pair.size();
@@ -77,17 +79,21 @@ namespace flexa {
 			const std::vector<const IGeomFunctor*>* readers = nullptr; // the sphere-sphere functors (null: quickReject off)
 			const FlexInteractionLoop::SpherePoint* p       = nullptr; // this step's table (null: not made)
 			long                                    n       = 0;
+			const char*                             sphere  = nullptr; // by id: a body of the loop's list of spheres
+			long                                    nIds    = 0;
 			// 0: not a candidate; 1: a candidate the table does not leave out (or no table); 2: left out.
-			// A candidate: no contact and the sphere-sphere functor, or no functor cached yet (a new
-			// pair, which may become one).
+			// A candidate: no contact and the sphere-sphere functor, or no functor cached yet between
+			// two listed spheres (a new pair, or a contact that ended: the pair may become one; a
+			// grain's contact with a wall that ends does not make the table on the next step).
 			int operator()(const Interaction& I) const
 			{
 				if (!readers || I.geom || !I.functorCache.geomExists) return 0;
 				const IGeomFunctor* f = I.functorCache.geom.get();
-				if (!f) return 1;
+				if (!f) return listed(I.getId1()) && listed(I.getId2()) ? 1 : 0;
 				if (std::find(readers->begin(), readers->end(), f) == readers->end()) return 0;
 				return byIds(I.getId1(), I.getId2());
 			}
+			bool listed(Body::id_t id) const { return id >= 0 && id < nIds && sphere[id]; }
 			// the table's part: 1 or 2 as above, for a candidate of these ids
 			int byIds(Body::id_t i1, Body::id_t i2) const
 			{

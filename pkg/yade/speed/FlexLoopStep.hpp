@@ -129,7 +129,7 @@ public:
 			for (const auto& f : L.geomDispatcher->functors) {
 				const IGeomFunctor* g = f.get();
 				L.seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
-				if (flexa::readsUnreachableMarks(g)) L.markReaders.push_back(g);
+				if (flexa::readsUnreachableMarks(g) || flexa::skipsMarkedAsApart(g)) L.markReaders.push_back(g);
 				if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) L.sphereReaders.push_back(g);
 			}
 		}
@@ -156,6 +156,29 @@ public:
 		        static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
 		// (the sphere functor throws in periodic scenes: not used there)
 		if (L.quickReject && !L.sphereReaders.empty() && !scene->isPeriodic) apart.readers = &L.sphereReaders;
+		if (apart.readers || fusable.geoms) listSpheres();
+		apart.sphere = L.isSphereId.data();
+		apart.nIds   = (long)L.isSphereId.size();
+	}
+
+	// the list of the bodies that are plain Spheres, again when the scene or the body count changed
+	void listSpheres()
+	{
+		const long nb = bodies.n;
+		if (scene == L.sphereIdsScene && nb == L.sphereIdsBodies) return;
+		L.sphereIds.clear();
+		L.isSphereId.assign(nb, 0);
+		L.spherePoints.assign(nb, SpherePoint());
+		for (long id = 0; id < nb; ++id) {
+			L.spherePoints[id].r = -1;
+			const Body* b        = bodies.p[id].get();
+			if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) {
+				L.sphereIds.push_back((Body::id_t)id);
+				L.isSphereId[id] = 1;
+			}
+		}
+		L.sphereIdsScene  = scene;
+		L.sphereIdsBodies = nb;
 	}
 
 	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres)
@@ -167,16 +190,6 @@ public:
 		SpherePoint*  p  = L.spherePoints.data();
 		SphereMotion* mv = L.sphereMotion.data();
 		const long    nb = bodies.n;
-		if (scene != L.sphereIdsScene || nb != L.sphereIdsBodies) { // the list of spheres, again
-			L.sphereIds.clear();
-			for (long id = 0; id < nb; ++id) {
-				p[id].r       = -1;
-				const Body* b = bodies.p[id].get();
-				if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) L.sphereIds.push_back((Body::id_t)id);
-			}
-			L.sphereIdsScene  = scene;
-			L.sphereIdsBodies = nb;
-		}
 		// the listed bodies (each still checked: erased, or its shape replaced: r = -1)
 		const Body::id_t* ids = L.sphereIds.data();
 		const long        ns  = (long)L.sphereIds.size();

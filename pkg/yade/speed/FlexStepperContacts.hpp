@@ -38,6 +38,7 @@ namespace flexa {
 			Real            kappa       = 0;  // facet: triangle load factor - 1 (see triangleLoadFactor)
 			const FrictMat* mat         = nullptr;
 			bool            sphere      = false; // a Sphere shape (clump members too)
+			bool            facet       = false; // a YADE Facet (a rigid triangle)
 			bool            shaped      = false; // the body exists and has a shape
 			flexa::Element  el;
 		};
@@ -88,7 +89,9 @@ namespace flexa {
 				if (const Sphere* sp = flexa::fastCast<Sphere>(b->shape.get())) {
 					s.radius = sp->radius;
 					s.sphere = true;
-				} else {
+				} else if (typeid(*b->shape) == typeid(Facet))
+					s.facet = true;
+				else {
 					s.el = flexa::elementOf(b->shape.get());
 					if (s.el.nNodes) s.radius = s.el.radius;
 					if (s.el.fac) {
@@ -117,8 +120,10 @@ namespace flexa {
 		// re-runs once a point leaves the sweep box of its bound, and this estimate is then made again
 		// before the integrator uses the step (see flex::cannotTouch). Only with an
 		// InsertionSortCollider (the guarantee is its trigger) and for shapes whose points are known:
-		// spheres (clump members too) and elements; everything else counts as before. With `mark`,
-		// the pairs left out are also marked for the geometry functors (flexa::UnreachableMarks).
+		// spheres (clump members too), elements and YADE facets that stand still (they go nowhere:
+		// the estimate is made again when one moves, still()); everything else counts as before.
+		// With `mark`, the pairs left out are also marked for the geometry functors and the loop
+		// (flexa::UnreachableMarks, which hold only while those facets stand still).
 		class ContactRowsPass {
 		public:
 			ContactRowsPass(
@@ -137,6 +142,7 @@ namespace flexa {
 				findLaw();
 				if (mark) {
 					marks.set = false;
+					marks.still.clear();
 					++marks.generation;
 					marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
 				}
@@ -204,6 +210,7 @@ namespace flexa {
 					marks.runs                        = &static_cast<const InsertionSortCollider&>(*collider).numAction;
 					marks.runsAtMarking               = *marks.runs;
 					marks.colliderIx = std::find(scene->engines.begin(), scene->engines.end(), collider) - scene->engines.begin();
+					marks.still      = still();
 					marks.set        = true;
 				}
 				Real w2  = 0;
@@ -217,6 +224,14 @@ namespace flexa {
 			}
 			/// the bodies as the estimate saw them (id order)
 			const std::vector<StepBody>& bodies() const { return sb; }
+			/// the facets the estimate took as standing still (their pairs may have been left out)
+			std::vector<Body::id_t> still() const
+			{
+				std::vector<Body::id_t> out;
+				for (Body::id_t id = 0; id < (Body::id_t)sides.size(); ++id)
+					if (sb[id].facet && sides[id].state == 1) out.push_back(id);
+				return out;
+			}
 
 		private:
 			// the defining points of a body (sphere centre, element nodes), how far they may still
@@ -326,6 +341,21 @@ namespace flexa {
 					sd.reach = flex::reachableDistance(sd.x[0], b->bound->refPos, sweep);
 					sd.size  = sd.x[0].cwiseAbs().maxCoeff();
 					sd.n     = 1;
+				} else if (sb[id].facet) {
+					// a rigid triangle that stands still (not dynamic, no velocity: a container's
+					// side) goes nowhere; the loop holds the marks only while it still stands
+					// (flexa::marksHold; FlexTimeStepper estimates again when one moves). A moving
+					// one is not known (its sweep does not bound its turning).
+					const State& st = *b->state;
+					if (!flexa::standsStill(*b)) return sd;
+					const Facet& f = static_cast<const Facet&>(*b->shape);
+					if (f.vertices.size() != 3) return sd;
+					for (int a = 0; a < 3; ++a) {
+						sd.x[a] = st.se3.position + st.se3.orientation * f.vertices[a];
+						sd.size = std::max(sd.size, sd.x[a].cwiseAbs().maxCoeff());
+					}
+					sd.reach = 0;
+					sd.n     = 3;
 				} else
 					return sd;
 				sd.state = 1;
@@ -344,13 +374,14 @@ namespace flexa {
 					p[a] = x1[a];
 				for (int a = 0; a < n2; ++a)
 					p[n1 + a] = x2[a];
-				const Real reachAll = sb[i1].radius + sb[i2].radius + reach1 + reach2;
+				const Real r1 = std::max(Real(0), sb[i1].radius), r2 = std::max(Real(0), sb[i2].radius); // (a facet's -1: no thickness)
+				const Real reachAll = r1 + r2 + reach1 + reach2;
 				if (flex::boxesApart(p, n1, n2, flex::searchReach(p, n1 + n2, reachAll))) return true;
 				// a point or segment and a triangle: the plane test next (a wire or grain beside a
 				// lining), before the exact distance
 				if (n2 == 3 && n1 < 3 && flex::segmentTriangleApart(x1[0], x1[n1 - 1], x2[0], x2[1], x2[2], reachAll)) return true;
 				if (n1 == 3 && n2 < 3 && flex::segmentTriangleApart(x2[0], x2[n2 - 1], x1[0], x1[1], x1[2], reachAll)) return true;
-				const Real gap = flex::primitiveGap(x1, n1, sb[i1].radius, x2, n2, sb[i2].radius);
+				const Real gap = flex::primitiveGap(x1, n1, r1, x2, n2, r2);
 				return flex::cannotTouch(gap, reach1, reach2, size);
 			}
 
