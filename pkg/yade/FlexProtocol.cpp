@@ -177,15 +177,18 @@ namespace flexa {
 		        || t == typeid(Ig2_FlexCylinder_FlexFacet_FlexContactGeom);
 	}
 	bool skipsMarkedAsApart(const IGeomFunctor* f) { return f && typeid(*f) == typeid(Ig2_Facet_Sphere_ScGeom); }
-	bool marksHold(const Scene* scene)
+	bool allStandStill(const Scene* scene, const std::vector<Body::id_t>& ids)
 	{
-		const UnreachableMarks& m = sceneState(scene).unreachable;
-		if (!m.valid(scene)) return false;
-		for (Body::id_t id : m.still) {
+		for (Body::id_t id : ids) {
 			const Body* b = bodyAt(scene, id);
 			if (!b || !standsStill(*b)) return false;
 		}
 		return true;
+	}
+	bool marksHold(const Scene* scene)
+	{
+		const UnreachableMarks& m = sceneState(scene).unreachable;
+		return m.valid(scene) && allStandStill(scene, m.still);
 	}
 } // namespace flexa
 

@@ -74,6 +74,8 @@ namespace flexa {
 	bool skipsMarkedAsApart(const IGeomFunctor* f);
 	/// Whether a body stays where it is unless a script moves it: not dynamic, no velocity.
 	inline bool standsStill(const Body& b) { return !b.isDynamic() && b.state && b.state->vel == Vector3r::Zero() && b.state->angVel == Vector3r::Zero(); }
+	/// Whether every body of `ids` still stands (standsStill; a body gone does not).
+	bool allStandStill(const Scene* scene, const std::vector<Body::id_t>& ids);
 	/// Whether the marks hold on this step for the loop: valid, and each body they take as
 	/// standing still still stands (one test per such body, once per step).
 	bool marksHold(const Scene* scene);

@@ -164,11 +164,7 @@ void FlexTimeStepper::action()
 	long grainBuilds = 0;
 	flexa::forEachGrainEngine(scene, [&](const FlexGrainEngine& ge) { grainBuilds += ge.builds; });
 	// and whenever a facet the last estimate took as standing still moved (its pairs were left out)
-	bool stillMoved = false;
-	for (Body::id_t id : stillCache) {
-		const Body* b = flexa::bodyAt(scene, id);
-		stillMoved |= !b || !flexa::standsStill(*b);
-	}
+	const bool stillMoved = !flexa::allStandStill(scene, stillCache);
 	const bool changed
 	        = (colliderRuns >= 0 ? colliderRuns != lastColliderRuns : nIntr != lastInteractionCount) || grainBuilds != lastGrainBuilds || stillMoved;
 	lastGrainBuilds      = grainBuilds;
