@@ -23,6 +23,7 @@
 #include "Types.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -204,6 +205,29 @@ inline bool owns(const Mesh& mesh, const ElementNodes& self, int selfId, const V
 	        beaten, nBeaten);
 }
 
+/// Whether the core of element e (its segment or triangle, without the radius) is surely farther
+/// than d from point P: by more than round-off (a relative 1e-9 of d and P's coordinates); false
+/// where it cannot tell (a node missing).
+template <class Mesh> inline bool coreFartherThan(const Mesh& mesh, const ElementNodes& e, const Vec3& P, double d)
+{
+	const Vec3* x[3] = { nullptr, nullptr, nullptr };
+	for (int k = 0; k < e.nNodes; ++k)
+		if (!(x[k] = mesh.pos(e.nodes[k]))) return false;
+	const double margin = d + 1e-9 * (d + P.cwiseAbs().maxCoeff());
+	// first the sphere about the nodes' mean through the farthest node, which holds the core
+	Vec3 c = *x[0];
+	for (int k = 1; k < e.nNodes; ++k)
+		c += *x[k];
+	c /= e.nNodes;
+	double r2 = 0;
+	for (int k = 0; k < e.nNodes; ++k)
+		r2 = std::max(r2, (*x[k] - c).squaredNorm());
+	if ((P - c).norm() - std::sqrt(r2) > margin) return true;
+	if (e.isSegment()) return (P - closestPointOnSegment(P, *x[0], *x[1]).point).squaredNorm() > margin * margin;
+	if (e.isTriangle()) return (P - closestPointOnTriangle(P, *x[0], *x[1], *x[2]).point).squaredNorm() > margin * margin;
+	return false;
+}
+
 /// Contact of two elements x and y (x on side A, y on side B): the overlap, the closest point on
 /// each with its support, and the direction n from x's point to y's (zero when one pierces the
 /// other). Computed in ONE canonical order whoever asks (two segments: the lower id first; a
@@ -274,8 +298,13 @@ template <class Mesh> inline PairHit pairHit(const Mesh& mesh, int idx, const El
 /// wires lying on one facet at different places have parallel normals too.
 /// Returns whether (idA, idB) carries its cluster's contact; the other pairs are then in
 /// `beaten` (A-side id, B-side id; at most 8 kept) for the shear hand-over.
+///
+/// A pair met by changing one element is evaluated only if its new element comes close enough
+/// to the member's contact point to link (coreFartherThan); screen = false evaluates every pair
+/// met (the same answer, the reference the tests hold the screen to).
 template <class Mesh>
-inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, const ElementNodes& B, std::pair<int, int>* beaten, int& nBeaten)
+inline bool ownsPair(
+        const Mesh& mesh, int idA, const ElementNodes& A, int idB, const ElementNodes& B, std::pair<int, int>* beaten, int& nBeaten, bool screen = true)
 {
 	nBeaten = 0;
 	struct Member {
@@ -301,8 +330,10 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 	cl.put(nCl++, { idA, idB, A, B, self });
 	met.put(nMet++, { { idA, idB }, 0, self, A, B });
 	// a pair met from a member: evaluated once, then added if `link` says it is the same
-	// contact; returns true if it beats self (self then does not carry the contact)
-	auto visit = [&](const Member& cur, int ia2, int ib2, auto link) {
+	// contact; returns true if it beats self (self then does not carry the contact). A pair that
+	// `mayLink` (given its two elements) rules out is neither evaluated nor kept: it may still be
+	// met, and link, from another member.
+	auto visit = [&](const Member& cur, int ia2, int ib2, auto link, auto mayLink) {
 		const std::pair<int, int> pq { ia2, ib2 };
 		int                       at = -1;
 		for (int i = 0; i < nMet && at < 0; ++i)
@@ -310,12 +341,16 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 		if (at >= 0 && met[at].member != -1) return false; // a member already, or not touching
 		if (at < 0) {
 			if (nMet == 4 * kMaxCluster) return false; // (full: a cluster this large does not occur)
+			const ElementNodes ea  = ia2 == cur.ia ? cur.a : mesh.element(ia2);
+			const ElementNodes eb  = ib2 == cur.ib ? cur.b : mesh.element(ib2);
+			const bool         can = ea.nNodes && eb.nNodes && !shareNode(ea, eb); // (bonded: no contact)
+			if (can && !mayLink(ea, eb)) return false;
 			at     = nMet++;
 			Met& x = met.put(at, Met {});
 			x.pq   = pq;
-			x.ea   = ia2 == cur.ia ? cur.a : mesh.element(ia2);
-			x.eb   = ib2 == cur.ib ? cur.b : mesh.element(ib2);
-			if (x.ea.nNodes && x.eb.nNodes && !shareNode(x.ea, x.eb)) x.h = pairHit(mesh, ia2, x.ea, ib2, x.eb); // (bonded: no contact)
+			x.ea   = ea;
+			x.eb   = eb;
+			if (can) x.h = pairHit(mesh, ia2, x.ea, ib2, x.eb);
 			x.member = x.h.overlap > 0 ? -1 : -2;
 			if (x.member == -2) return false; // not touching: never part of a cluster
 		}
@@ -324,7 +359,8 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 		cl.put(nCl, { ia2, ib2, met[at].ea, met[at].eb, met[at].h });
 		return beats(cl[nCl++]);
 	};
-	auto holds = [](const ElementNodes& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
+	auto holds   = [](const ElementNodes& e, const Hit& h) { return onShared(h, e, e); }; // e has every node of h's support
+	auto anyPair = [](const ElementNodes&, const ElementNodes&) { return true; };
 	for (int m = 0; m < nCl; ++m) {                                                     // breadth-first over linked pairs
 		const Member& cur = cl[m];                                                  // (slots stay where they are while members are added)
 		// one element changes: (a', b) or (a, b')
@@ -341,10 +377,24 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
                                                && (onShared(hc, e, oe) || onShared(ho, e, oe) || cur.h.n.dot(x.h.n) > kMergeCos))
                                         || ((cur.h.n.squaredNorm() == 0 || x.h.n.squaredNorm() == 0) && (hc.point - ho.point).squaredNorm() < thin * thin);
 			};
+			// a pair (oe, partner) that touches and links has its closest point on oe within
+			// `far` of cur's point on the partner: by the first clause of link, cur's and its point
+			// on the partner are closer than patch, and its points closer than oe.radius +
+			// partner.radius (it touches); by the second, its point on oe is closer than thin to
+			// cur's point on e, itself closer than e.radius + partner.radius to cur's point on the
+			// partner (cur touches)
+			const Vec3& onPartner = side == 0 ? cur.h.hy.point : cur.h.hx.point;
+			auto        mayLink   = [&](const ElementNodes& ea2, const ElementNodes& eb2) {
+                                const ElementNodes& oe   = side == 0 ? ea2 : eb2;
+                                const double        thin = std::min(e.radius, oe.radius);
+                                const double        far = std::max(thin + partner.radius + oe.radius + partner.radius, thin + e.radius + partner.radius);
+                                return !screen || !coreFartherThan(mesh, oe, onPartner, far);
+			};
 			for (int k = 0; k < e.nNodes; ++k)
 				if (const std::vector<int>* els = mesh.elementsAt(e.nodes[k]))
 					for (int other : *els)
-						if (other != eId && visit(cur, side == 0 ? other : cur.ia, side == 0 ? cur.ib : other, link)) return false;
+						if (other != eId && visit(cur, side == 0 ? other : cur.ia, side == 0 ? cur.ib : other, link, mayLink))
+							return false;
 		}
 		// both change, where the contact sits on what each element shares with a neighbour (a
 		// wire's node above a seam of two facets: (wire 1, facet 2) and (wire 2, facet 1) touch at
@@ -364,7 +414,7 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 					const ElementNodes ea2 = mesh.element(a2);
 					if (!holds(ea2, hx)) continue;
 					for (int b2 : *bs)
-						if (b2 != cur.ib && holds(mesh.element(b2), hy) && visit(cur, a2, b2, link)) return false;
+						if (b2 != cur.ib && holds(mesh.element(b2), hy) && visit(cur, a2, b2, link, anyPair)) return false;
 				}
 		}
 	}

@@ -63,15 +63,27 @@ std::map<int, std::set<int>> owners(const TestMesh& m, const Vec3& P, double R)
 	return out;
 }
 // The element pairs (a, b), a in `as`, b in `bs`, that carry a contact, each with the pairs it beat.
-std::map<std::pair<int, int>, std::set<std::pair<int, int>>> pairOwners(const TestMesh& m, const std::vector<int>& as, const std::vector<int>& bs)
+// screen: ownsPair's (false: every pair met evaluated).
+std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> pairOwnersInOrder(
+        const TestMesh& m, const std::vector<int>& as, const std::vector<int>& bs, bool screen = true)
 {
-	std::map<std::pair<int, int>, std::set<std::pair<int, int>>> out;
+	std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> out;
 	for (int a : as)
 		for (int b : bs) {
 			std::pair<int, int> beaten[8];
 			int                 nb = 0;
-			if (ownsPair(m, a, m.element(a), b, m.element(b), beaten, nb)) out[{ a, b }] = std::set<std::pair<int, int>>(beaten, beaten + nb);
+			if (ownsPair(m, a, m.element(a), b, m.element(b), beaten, nb, screen))
+				out[{ a, b }] = std::vector<std::pair<int, int>>(beaten, beaten + nb);
 		}
+	return out;
+}
+std::map<std::pair<int, int>, std::set<std::pair<int, int>>> pairOwners(const TestMesh& m, const std::vector<int>& as, const std::vector<int>& bs)
+{
+	std::map<std::pair<int, int>, std::set<std::pair<int, int>>> out;
+	for (const auto& [pq, beaten] : pairOwnersInOrder(m, as, bs)) {
+		out[pq] = std::set<std::pair<int, int>>(beaten.begin(), beaten.end());
+		EXPECT_EQ(pairOwnersInOrder(m, as, bs, false).at(pq), beaten); // (the screen changes nothing)
+	}
 	return out;
 }
 } // namespace
@@ -234,4 +246,54 @@ TEST(Ownership, NodesAreNotElements)
 	EXPECT_EQ(m.element(n0).nNodes, 0);
 	EXPECT_EQ(pairHit(m, s0, m.element(s0), n1, m.element(n1)).overlap, -std::numeric_limits<double>::infinity());
 	EXPECT_EQ(probe(m, m.element(n1), Vec3(1, 0, 0), 1.0).overlap, -std::numeric_limits<double>::infinity());
+}
+
+// A wire net pressed into a crumpled membrane (wires over seams, net nodes over the membrane's
+// vertices and edges, clusters of several pairs), and two nets crossing each other: ownsPair
+// answers the same, owners and the pairs each beat in order, whether it screens the pairs it meets
+// or evaluates them all.
+TEST(Ownership, ScreeningThePairsMetChangesNoAnswer)
+{
+	for (unsigned seed : { 11u, 12u, 13u }) {
+		TestMesh         m;
+		std::vector<int> facets, wires, wires2;
+		const int        N = 7;
+		test::Rng        rng(seed);
+		int              mem[N + 1][N + 1], net[N + 1][N + 1], net2[N + 1][N + 1];
+		for (int i = 0; i <= N; ++i)
+			for (int j = 0; j <= N; ++j)
+				mem[i][j] = m.node(0.1 * i, 0.1 * j, 0.004 * rng.uniform(-0.5, 0.5));
+		for (int i = 0; i < N; ++i)
+			for (int j = 0; j < N; ++j) {
+				facets.push_back(m.add({ mem[i][j], mem[i + 1][j], mem[i + 1][j + 1] }, 0.002));
+				facets.push_back(m.add({ mem[i][j], mem[i + 1][j + 1], mem[i][j + 1] }, 0.002));
+			}
+		// a net of 0.1 m cells over the membrane's nodes, sagging into it (radius 4 mm), and a
+		// second net of 0.1 m cells turned 45 degrees, lying on the first
+		for (int i = 0; i <= N; ++i)
+			for (int j = 0; j <= N; ++j) {
+				net[i][j]  = m.node(0.1 * i + 0.01 * rng.uniform(-0.5, 0.5), 0.1 * j + 0.01 * rng.uniform(-0.5, 0.5),
+				         0.004 + 0.003 * rng.uniform(-0.5, 0.5));
+				net2[i][j] = m.node(
+				        0.35 + 0.0707 * (i - j), 0.0707 * (i + j) + 0.003 * rng.uniform(-0.5, 0.5), 0.0115 + 0.003 * rng.uniform(-0.5, 0.5));
+			}
+		for (int i = 0; i <= N; ++i)
+			for (int j = 0; j <= N; ++j) {
+				if (i < N) wires.push_back(m.add({ net[i][j], net[i + 1][j] }, 0.004));
+				if (j < N) wires.push_back(m.add({ net[i][j], net[i][j + 1] }, 0.004));
+				if (i < N) wires2.push_back(m.add({ net2[i][j], net2[i + 1][j] }, 0.004));
+				if (j < N) wires2.push_back(m.add({ net2[i][j], net2[i][j + 1] }, 0.004));
+			}
+		const auto onMembrane = pairOwnersInOrder(m, wires, facets);
+		long       beat       = 0;
+		for (const auto& [pq, beaten] : onMembrane)
+			beat += (long)beaten.size();
+		EXPECT_GT(onMembrane.size(), 50u);
+		EXPECT_GT(beat, 50); // (clusters of several pairs)
+		EXPECT_EQ(onMembrane, pairOwnersInOrder(m, wires, facets, false));
+		const auto crossing = pairOwnersInOrder(m, wires2, wires);
+		EXPECT_GT(crossing.size(), 10u);
+		EXPECT_EQ(crossing, pairOwnersInOrder(m, wires2, wires, false));
+		EXPECT_EQ(pairOwnersInOrder(m, wires2, facets), pairOwnersInOrder(m, wires2, facets, false));
+	}
 }
