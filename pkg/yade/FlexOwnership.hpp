@@ -3,6 +3,7 @@
 // reasons: kernel/Ownership.hpp.
 #pragma once
 #include "FlexElements.hpp"
+#include "FlexSceneState.hpp"
 
 #include <utility>
 
@@ -12,20 +13,64 @@ namespace flexa {
 	using flex::segmentHit;
 	using flex::triangleHit;
 
+	/// The scene's mesh as the ownership rule reads it: through the table of the interaction
+	/// loop's pass while one runs (MeshPass), else through the bodies.
+	using PassMesh = flex::TabledMesh<SceneMesh>;
+	inline PassMesh passMesh(const Scene* scene)
+	{
+		const MeshTableMemo& mt = sceneState(scene).meshTable;
+		return PassMesh { mt.on ? &mt.table : nullptr, SceneMesh { scene } };
+	}
+
+	/// For the life of this object (a pass of the interaction loop, made before its threads start,
+	/// in which no body moves, changes or is erased), the ownership tests read the elements and
+	/// their nodes from a table filled once here. Which ids it holds is found again when the
+	/// number of bodies or of element erasures changed.
+	class MeshPass {
+		MeshTableMemo& mt;
+
+	public:
+		explicit MeshPass(const Scene* scene)
+		        : mt(sceneState(scene).meshTable)
+		{
+			BodyContainer& bodies   = *scene->bodies;
+			const long     erasures = sceneState(scene).elementErasures;
+			if (!mt.built || mt.bodies != bodies.size() || mt.erasures != erasures) {
+				mt.table.clear((long)bodies.size());
+				for (const auto& b : bodies) {
+					if (!b) continue;
+					const Element e = elementOf(b->shape.get());
+					if (!e.nNodes) continue;
+					mt.table.addElement(b->id);
+					for (int k = 0; k < e.nNodes; ++k)
+						mt.table.addNode(e.nodes[k]);
+				}
+				mt.built    = true;
+				mt.bodies   = bodies.size();
+				mt.erasures = erasures;
+			}
+			mt.table.refresh(SceneMesh { scene });
+			mt.on = mt.table.elements() > 0;
+		}
+		~MeshPass() { mt.on = false; }
+		MeshPass(const MeshPass&)            = delete;
+		MeshPass& operator=(const MeshPass&) = delete;
+	};
+
 	/// Whether element `self` (body selfId) carries the contact of a probe sphere (P, R) whose
 	/// closest point on self is `hit`; if so, the other elements of its cluster are in `beaten`
 	/// (at most 8).
 	inline bool owns(
 	        const Scene* scene, const Element& self, Body::id_t selfId, const Vector3r& P, Real R, const Hit& hit, Body::id_t* beaten, int& nBeaten)
 	{
-		return flex::owns(SceneMesh { scene }, self, selfId, P, R, hit, beaten, nBeaten);
+		return flex::owns(passMesh(scene), self, selfId, P, R, hit, beaten, nBeaten);
 	}
 	/// Whether the element pair (idA, idB) carries its cluster's contact; if so, the other pairs
 	/// are in `beaten` (A-side id, B-side id; at most 8).
 	inline bool ownsPair(
 	        const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
 	{
-		return flex::ownsPair(SceneMesh { scene }, idA, A, idB, B, beaten, nBeaten);
+		return flex::ownsPair(passMesh(scene), idA, A, idB, B, beaten, nBeaten);
 	}
 
 	/// A neighbouring contact's geometry and physics, read by another thread's functor while its

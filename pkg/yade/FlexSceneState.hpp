@@ -10,6 +10,8 @@
 #pragma once
 #include "FlexPch.hpp"
 
+#include <kernel/MeshTable.hpp>
+
 #include <boost/weak_ptr.hpp>
 #include <atomic>
 #include <mutex>
@@ -130,6 +132,18 @@ namespace flexa {
 		std::vector<Body::id_t> surfaces;
 	};
 
+	/// The mesh as the ownership rule reads it (kernel/MeshTable.hpp), for one pass of the
+	/// interaction loop. Writer: FlexInteractionLoop, before its threads start (flexa::MeshPass).
+	/// Readers: the contact functors' ownership tests, concurrently, during that pass (`on`).
+	/// Lifetime: the pass; which ids it holds, until the bodies change.
+	struct MeshTableMemo {
+		flex::MeshTable table;
+		bool            on       = false;
+		bool            built    = false;
+		size_t          bodies   = 0;
+		long            erasures = -1;
+	};
+
 	/// Everything the yade-flex engines of one scene share.
 	struct SceneState {
 		NeighbourPairs   neighbourPairs;
@@ -140,6 +154,7 @@ namespace flexa {
 		EngineListMemo   engineList;
 		SceneCheckMemo   check;
 		SurfacePairsMemo surfacePairs;
+		MeshTableMemo    meshTable;
 	};
 
 	/// A scene's state with what tells its scene apart: the scene's address and its interaction

@@ -380,7 +380,7 @@ namespace {
 			if (!rimOwns(e, rim, nRim)) return false;
 			const flexa::Element self = flexa::elementOf(&fa);
 			// (self's contact with the probe arithmetic the neighbours are compared with: its surface point, radius 0)
-			const flex::Hit hit = flex::probe(flexa::SceneMesh { scene }, self, e.point, 0);
+			const flex::Hit hit = flex::probe(flexa::passMesh(scene), self, e.point, 0);
 			if (!(hit.overlap > 0) || !flexa::owns(scene, self, I.getId2(), e.point, 0, hit, other, nOther)) return false;
 			nPairs = 0;
 			for (int k = 0; k < nOther && nPairs < 8; ++k)

@@ -1,5 +1,6 @@
 // yade-flex kernel tests: which element carries a contact (kernel/Ownership.hpp), on small meshes
 // of exact geometry where the number of distinct contacts is known (GPL-2.0-or-later).
+#include "kernel/MeshTable.hpp"
 #include "kernel/Ownership.hpp"
 #include "test_util.hpp"
 
@@ -50,22 +51,26 @@ struct TestMesh {
 
 // The elements that carry a contact with the probe sphere (P, R), each with the cluster members
 // it beat: every element that overlaps asks, as its contact functor does.
-std::map<int, std::set<int>> owners(const TestMesh& m, const Vec3& P, double R)
+// (Mesh: TestMesh or a view of it)
+template <class Mesh> std::map<int, std::set<int>> owners(const TestMesh& t, const Mesh& m, const Vec3& P, double R)
 {
 	std::map<int, std::set<int>> out;
-	for (size_t k = 0; k < m.el.size(); ++k) {
-		const int id  = kFirstElement + (int)k;
-		const Hit hit = probe(m, m.el[k], P, R);
+	for (size_t k = 0; k < t.el.size(); ++k) {
+		const int          id  = kFirstElement + (int)k;
+		const ElementNodes e   = m.element(id);
+		const Hit          hit = probe(m, e, P, R);
 		if (!(hit.overlap > 0)) continue;
 		int beaten[8], nb = 0;
-		if (owns(m, m.el[k], id, P, R, hit, beaten, nb)) out[id] = std::set<int>(beaten, beaten + nb);
+		if (owns(m, e, id, P, R, hit, beaten, nb)) out[id] = std::set<int>(beaten, beaten + nb);
 	}
 	return out;
 }
+std::map<int, std::set<int>> owners(const TestMesh& m, const Vec3& P, double R) { return owners(m, m, P, R); }
 // The element pairs (a, b), a in `as`, b in `bs`, that carry a contact, each with the pairs it beat.
-// screen: ownsPair's (false: every pair met evaluated).
+// screen: ownsPair's (false: every pair met evaluated). Mesh: TestMesh or a view of it.
+template <class Mesh>
 std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> pairOwnersInOrder(
-        const TestMesh& m, const std::vector<int>& as, const std::vector<int>& bs, bool screen = true)
+        const Mesh& m, const std::vector<int>& as, const std::vector<int>& bs, bool screen = true)
 {
 	std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> out;
 	for (int a : as)
@@ -252,14 +257,17 @@ TEST(Ownership, NodesAreNotElements)
 // vertices and edges, clusters of several pairs), and two nets crossing each other: ownsPair
 // answers the same, owners and the pairs each beat in order, whether it screens the pairs it meets
 // or evaluates them all.
-TEST(Ownership, ScreeningThePairsMetChangesNoAnswer)
-{
-	for (unsigned seed : { 11u, 12u, 13u }) {
-		TestMesh         m;
-		std::vector<int> facets, wires, wires2;
-		const int        N = 7;
-		test::Rng        rng(seed);
-		int              mem[N + 1][N + 1], net[N + 1][N + 1], net2[N + 1][N + 1];
+namespace {
+// A wire net pressed into a crumpled membrane (facets) and a second net lying across it, nodes
+// jittered by `seed`: clusters of several element pairs of every kind.
+struct CrumpledScene {
+	TestMesh         m;
+	std::vector<int> facets, wires, wires2;
+	explicit CrumpledScene(unsigned seed)
+	{
+		const int N = 7;
+		test::Rng rng(seed);
+		int       mem[N + 1][N + 1], net[N + 1][N + 1], net2[N + 1][N + 1];
 		for (int i = 0; i <= N; ++i)
 			for (int j = 0; j <= N; ++j)
 				mem[i][j] = m.node(0.1 * i, 0.1 * j, 0.004 * rng.uniform(-0.5, 0.5));
@@ -284,6 +292,18 @@ TEST(Ownership, ScreeningThePairsMetChangesNoAnswer)
 				if (i < N) wires2.push_back(m.add({ net2[i][j], net2[i + 1][j] }, 0.004));
 				if (j < N) wires2.push_back(m.add({ net2[i][j], net2[i][j + 1] }, 0.004));
 			}
+	}
+};
+} // namespace
+
+TEST(Ownership, ScreeningThePairsMetChangesNoAnswer)
+{
+	for (unsigned seed : { 11u, 12u, 13u }) {
+		const CrumpledScene     sc(seed);
+		const TestMesh&         m          = sc.m;
+		const std::vector<int>& facets     = sc.facets;
+		const std::vector<int>& wires      = sc.wires;
+		const std::vector<int>& wires2     = sc.wires2;
 		const auto onMembrane = pairOwnersInOrder(m, wires, facets);
 		long       beat       = 0;
 		for (const auto& [pq, beaten] : onMembrane)
@@ -295,5 +315,71 @@ TEST(Ownership, ScreeningThePairsMetChangesNoAnswer)
 		EXPECT_GT(crossing.size(), 10u);
 		EXPECT_EQ(crossing, pairOwnersInOrder(m, wires2, wires, false));
 		EXPECT_EQ(pairOwnersInOrder(m, wires2, facets), pairOwnersInOrder(m, wires2, facets, false));
+	}
+}
+
+// A table of the mesh (kernel/MeshTable.hpp) answers as the mesh: the same owners and beaten
+// pairs, in order, whether it holds every element and node, some of them (the others read from
+// the mesh) or none; after the mesh moved, a refreshed table answers as the moved mesh.
+TEST(Ownership, ATableOfTheMeshGivesTheSameOwners)
+{
+	for (unsigned seed : { 21u, 22u }) {
+		CrumpledScene sc(seed);
+		TestMesh&     m   = sc.m;
+		const long    ids = std::max((long)m.x.size(), kFirstElement + (long)m.el.size()); // (TestMesh: node and element ids may coincide)
+		MeshTable     all, some, none;
+		all.clear(ids);
+		some.clear(ids);
+		none.clear(ids);
+		for (size_t k = 0; k < m.el.size(); ++k) {
+			const int id = kFirstElement + (int)k;
+			all.addElement(id);
+			if (k % 3) some.addElement(id);
+			for (int i = 0; i < m.el[k].nNodes; ++i) {
+				all.addNode(m.el[k].nodes[i]);
+				if (m.el[k].nodes[i] % 2) some.addNode(m.el[k].nodes[i]);
+			}
+		}
+		all.addNode(-1);          // (left out: outside the ids)
+		all.addElement((int)ids); // (the same)
+		EXPECT_EQ(all.nodes(), (long)m.x.size());
+		EXPECT_EQ(all.elements(), (long)m.el.size());
+		for (int pass = 0; pass < 2; ++pass) {
+			all.refresh(m);
+			some.refresh(m);
+			const TabledMesh<const TestMesh&> viaAll { &all, m }, viaSome { &some, m }, viaNone { &none, m }, noTable { nullptr, m };
+			for (int id = -1; id <= ids; ++id) { // every answer of the full table is the mesh's
+				const Vec3* p = viaAll.pos(id);
+				ASSERT_EQ(p == nullptr, m.pos(id) == nullptr) << id;
+				if (p) {
+					EXPECT_NE(p, m.pos(id)) << id; // (read from the table for an entered node)
+					EXPECT_EQ(*p, *m.pos(id)) << id;
+				}
+				EXPECT_EQ(viaAll.elementsAt(id), m.elementsAt(id)) << id;
+				const ElementNodes a = viaAll.element(id), b = m.element(id);
+				EXPECT_EQ(a.nNodes, b.nNodes) << id;
+				EXPECT_EQ(a.radius, b.radius) << id;
+				for (int i = 0; i < 3; ++i)
+					EXPECT_EQ(a.nodes[i], b.nodes[i]) << id;
+			}
+			for (const auto& [as, bs] : { std::make_pair(sc.wires, sc.facets), std::make_pair(sc.wires2, sc.wires) }) {
+				const auto ref = pairOwnersInOrder(m, as, bs);
+				EXPECT_GT(ref.size(), 10u);
+				EXPECT_EQ(pairOwnersInOrder(viaAll, as, bs), ref);
+				EXPECT_EQ(pairOwnersInOrder(viaSome, as, bs), ref);
+				EXPECT_EQ(pairOwnersInOrder(viaNone, as, bs), ref);
+				EXPECT_EQ(pairOwnersInOrder(noTable, as, bs), ref);
+			}
+			// a grain pressed on a node of the upper net (its four wires: one cluster)
+			const Vec3 P(0.35 + 0.0707, 0.2121, 0.04);
+			const auto ref = owners(m, P, 0.03);
+			ASSERT_EQ(ref.size(), 1u);
+			EXPECT_FALSE(ref.begin()->second.empty());
+			EXPECT_EQ(owners(m, viaAll, P, 0.03), ref);
+			EXPECT_EQ(owners(m, viaSome, P, 0.03), ref);
+			// the mesh moves (the nets pressed 2 mm deeper); the tables are refreshed at the next pass
+			for (size_t n = 64; n < m.x.size(); ++n)
+				m.x[n].z() -= 0.002;
+		}
 	}
 }

@@ -3,6 +3,7 @@
 #include "FlexLoopCompaction.hpp"
 #include "FlexLoopFilters.hpp"
 #include "FlexLoopStep.hpp"
+#include "../FlexOwnership.hpp"
 #include "../FlexProtocol.hpp"
 #include "../FlexSceneState.hpp"
 #include "FlexTuning.hpp"
@@ -149,6 +150,7 @@ void FlexInteractionLoop::action()
 	step.splitByWeight();
 	step.makeShares();
 	step.prepareThreadSums();
+	const flexa::MeshPass meshPass(scene); // (nothing moves until the threads end)
 	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel num_threads(step.threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled)
