@@ -238,44 +238,58 @@ struct PairHit {
 	Vec3   n       = Vec3::Zero();
 	double overlap = -std::numeric_limits<double>::infinity();
 };
+/// pairHit's answer from the closest points ss of segments a and b (a: the lower id), once
+/// segmentsApart found them not apart; swap: x is b.
+inline PairHit segmentsPairHit(const ElementNodes& a, const ElementNodes& b, const SegmentSegment& ss, bool swap)
+{
+	PairHit      r;
+	const double ov = a.radius + b.radius - (ss.p2 - ss.p1).norm();
+	const Hit    ha = segmentHit(a, PointSegment { ss.s, ss.p1 }, ov);
+	const Hit    hb = segmentHit(b, PointSegment { ss.t, ss.p2 }, ov);
+	r.overlap       = ha.overlap;
+	r.hx            = swap ? hb : ha;
+	r.hy            = swap ? ha : hb;
+	r.n             = (r.hy.point - r.hx.point).normalized();
+	return r;
+}
+/// pairHit's answer from the closest points st of segment a and triangle b, once
+/// segmentTriangleApart found them not apart; swap: x is the triangle.
+inline PairHit segmentTrianglePairHit(const ElementNodes& a, const ElementNodes& b, const SegmentTriangle& st, bool swap)
+{
+	PairHit      r;
+	const double ov = a.radius + b.radius - (st.t.point - st.p1).norm();
+	const Hit    ha = segmentHit(a, PointSegment { st.s, st.p1 }, ov);
+	// support from the weights: a segment parallel to the triangle over its face gets the
+	// face's support (7) also where its stretch ends on an edge (a wire's node above a seam),
+	// with that edge's weights and a zero (round-off) for the third node
+	PointTriangle t = st.t;
+	t.support       = 0;
+	for (int k = 0; k < 3; ++k)
+		if (t.w[k] > 1e-12) t.support |= 1u << k;
+	const Hit hb = triangleHit(b, t, ov);
+	r.overlap    = ha.overlap;
+	r.hx         = swap ? hb : ha;
+	r.hy         = swap ? ha : hb;
+	r.n          = (r.hy.point - r.hx.point).normalized();
+	return r;
+}
 template <class Mesh> inline PairHit pairHit(const Mesh& mesh, int idx, const ElementNodes& x, int idy, const ElementNodes& y)
 {
-	PairHit r;
-	if (!x.nNodes || !y.nNodes || (x.isTriangle() && y.isTriangle())) return r;
+	if (!x.nNodes || !y.nNodes || (x.isTriangle() && y.isTriangle())) return PairHit();
 	const bool          swap = x.isTriangle() || (x.isSegment() && y.isSegment() && idy < idx);
 	const ElementNodes &a = swap ? y : x, &b = swap ? x : y;
 	const Vec3*         pa[2] = { mesh.pos(a.nodes[0]), mesh.pos(a.nodes[1]) };
 	const Vec3*         pb[3] = { nullptr, nullptr, nullptr };
 	for (int k = 0; k < b.nNodes; ++k)
-		if (!(pb[k] = mesh.pos(b.nodes[k]))) return r;
-	if (!pa[0] || !pa[1]) return r;
+		if (!(pb[k] = mesh.pos(b.nodes[k]))) return PairHit();
+	if (!pa[0] || !pa[1]) return PairHit();
 	const double reach = a.radius + b.radius;
-	Hit          ha, hb;
 	if (b.isSegment()) {
-		if (segmentsApart(*pa[0], *pa[1], *pb[0], *pb[1], reach)) return r;
-		const SegmentSegment ss = closestPointsSegments(*pa[0], *pa[1], *pb[0], *pb[1]);
-		const double         ov = reach - (ss.p2 - ss.p1).norm();
-		ha                      = segmentHit(a, PointSegment { ss.s, ss.p1 }, ov);
-		hb                      = segmentHit(b, PointSegment { ss.t, ss.p2 }, ov);
-	} else {
-		if (segmentTriangleApart(*pa[0], *pa[1], *pb[0], *pb[1], *pb[2], reach)) return r;
-		const SegmentTriangle st = closestPointsSegmentTriangle(*pa[0], *pa[1], *pb[0], *pb[1], *pb[2]);
-		const double          ov = reach - (st.t.point - st.p1).norm();
-		ha                       = segmentHit(a, PointSegment { st.s, st.p1 }, ov);
-		// support from the weights: a segment parallel to the triangle over its face gets the
-		// face's support (7) also where its stretch ends on an edge (a wire's node above a seam),
-		// with that edge's weights and a zero (round-off) for the third node
-		PointTriangle t = st.t;
-		t.support       = 0;
-		for (int k = 0; k < 3; ++k)
-			if (t.w[k] > 1e-12) t.support |= 1u << k;
-		hb = triangleHit(b, t, ov);
+		if (segmentsApart(*pa[0], *pa[1], *pb[0], *pb[1], reach)) return PairHit();
+		return segmentsPairHit(a, b, closestPointsSegments(*pa[0], *pa[1], *pb[0], *pb[1]), swap);
 	}
-	r.overlap = ha.overlap;
-	r.hx      = swap ? hb : ha;
-	r.hy      = swap ? ha : hb;
-	r.n       = (r.hy.point - r.hx.point).normalized();
-	return r;
+	if (segmentTriangleApart(*pa[0], *pa[1], *pb[0], *pb[1], *pb[2], reach)) return PairHit();
+	return segmentTrianglePairHit(a, b, closestPointsSegmentTriangle(*pa[0], *pa[1], *pb[0], *pb[1], *pb[2]), swap);
 }
 
 /// One contact decision per cluster of element-element pairs (a probe-based test, each side
@@ -301,10 +315,12 @@ template <class Mesh> inline PairHit pairHit(const Mesh& mesh, int idx, const El
 ///
 /// A pair met by changing one element is evaluated only if its new element comes close enough
 /// to the member's contact point to link (coreFartherThan); screen = false evaluates every pair
-/// met (the same answer, the reference the tests hold the screen to).
+/// met (the same answer, the reference the tests hold the screen to). selfHit: pairHit(mesh, idA,
+/// A, idB, B) where the caller has it already (a contact functor, from the same node positions
+/// and the same calls: segmentsPairHit, segmentTrianglePairHit); null: computed here.
 template <class Mesh>
-inline bool ownsPair(
-        const Mesh& mesh, int idA, const ElementNodes& A, int idB, const ElementNodes& B, std::pair<int, int>* beaten, int& nBeaten, bool screen = true)
+inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, const ElementNodes& B, std::pair<int, int>* beaten, int& nBeaten,
+        bool screen = true, const PairHit* selfHit = nullptr)
 {
 	nBeaten = 0;
 	struct Member {
@@ -312,7 +328,7 @@ inline bool ownsPair(
 		ElementNodes a, b;
 		PairHit      h;
 	};
-	const PairHit self = pairHit(mesh, idA, A, idB, B);
+	const PairHit self = selfHit ? *selfHit : pairHit(mesh, idA, A, idB, B);
 	if (!(self.overlap > 0)) return false;
 	auto key   = [](int p, int q) { return std::make_pair(std::min(p, q), std::max(p, q)); };
 	auto beats = [&](const Member& m) { return m.h.overlap > self.overlap || (m.h.overlap == self.overlap && key(m.ia, m.ib) < key(idA, idB)); };

@@ -59,7 +59,10 @@ namespace {
 		std::pair<Body::id_t, Body::id_t> beaten[8];
 		int                               nPairs = 0;
 		void                              finish(FlexContactGeom& g, bool own) { flexa::finishGeom(scene, g, own, &I, -1, nullptr, 0, beaten, nPairs); }
-		bool ownsPair(const flexa::Element& A, const flexa::Element& B) { return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs); }
+		bool                              ownsPair(const flexa::Element& A, const flexa::Element& B, const flex::PairHit* self = nullptr)
+		{
+			return flexa::ownsPair(scene, I.getId1(), A, I.getId2(), B, beaten, nPairs, self);
+		}
 	};
 
 	struct SphereCylinder : SphereSide {
@@ -134,7 +137,18 @@ namespace {
 			ss = flex::closestPointsSegments(a0->pos, a1->pos, xb0, xb1);
 			return c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
 		}
-		bool owns(Real) { return ownsPair(flexa::elementOf(&c1), flexa::elementOf(&c2)); }
+		// the pair's hit as the ownership search computes it (flex::pairHit: its separation test,
+		// then these closest points: the same call on the same positions, shift2 being zero), where
+		// the lower id is body 1; else computed there
+		bool owns(Real)
+		{
+			const flexa::Element A = flexa::elementOf(&c1), B = flexa::elementOf(&c2);
+			if (I.getId2() < I.getId1()) return ownsPair(A, B);
+			const flex::PairHit self = flex::segmentsApart(a0->pos, a1->pos, xb0, xb1, c1.radius + c2.radius)
+			        ? flex::PairHit()
+			        : flex::segmentsPairHit(A, B, ss, false);
+			return ownsPair(A, B, &self);
+		}
 		void fill(FlexContactGeom& g, bool isNew)
 		{
 			const Real overlap = c1.radius + c2.radius - (ss.p2 - ss.p1).norm();
@@ -214,7 +228,14 @@ namespace {
 			return c.radius + fa.radius - (st.p1 - st.t.point).norm();
 		}
 		// (it also settles a facet piercing a wire at a mesh node, where every wire of the node overlaps it)
-		bool owns(Real) { return ownsPair(ec, ef); }
+		// (the pair's hit as for two cylinders: the segment first)
+		bool owns(Real)
+		{
+			const flex::PairHit self = flex::segmentTriangleApart(a0->pos, a1->pos, fn.x[0], fn.x[1], fn.x[2], c.radius + fa.radius)
+			        ? flex::PairHit()
+			        : flex::segmentTrianglePairHit(ec, ef, st, false);
+			return ownsPair(ec, ef, &self);
+		}
 		void fill(FlexContactGeom& g, bool isNew)
 		{
 			Real dist;

@@ -66,11 +66,12 @@ namespace flexa {
 		return flex::owns(passMesh(scene), self, selfId, P, R, hit, beaten, nBeaten);
 	}
 	/// Whether the element pair (idA, idB) carries its cluster's contact; if so, the other pairs
-	/// are in `beaten` (A-side id, B-side id; at most 8).
-	inline bool ownsPair(
-	        const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten, int& nBeaten)
+	/// are in `beaten` (A-side id, B-side id; at most 8). selfHit: the pair's flex::pairHit, where
+	/// the caller has it (null: computed).
+	inline bool ownsPair(const Scene* scene, Body::id_t idA, const Element& A, Body::id_t idB, const Element& B, std::pair<Body::id_t, Body::id_t>* beaten,
+	        int& nBeaten, const flex::PairHit* selfHit = nullptr)
 	{
-		return flex::ownsPair(passMesh(scene), idA, A, idB, B, beaten, nBeaten);
+		return flex::ownsPair(passMesh(scene), idA, A, idB, B, beaten, nBeaten, true, selfHit);
 	}
 
 	/// A neighbouring contact's geometry and physics, read by another thread's functor while its

@@ -383,3 +383,59 @@ TEST(Ownership, ATableOfTheMeshGivesTheSameOwners)
 		}
 	}
 }
+
+// A contact functor hands ownsPair the hit it computed itself (segmentsPairHit,
+// segmentTrianglePairHit from its own closest points): the same hit as pairHit's, bit for bit,
+// and the same owners and beaten pairs in order.
+TEST(Ownership, TheFunctorsOwnHitIsPairHits)
+{
+	auto same = [](const Hit& a, const Hit& b) {
+		EXPECT_EQ(a.overlap, b.overlap);
+		EXPECT_EQ(a.point, b.point);
+		EXPECT_EQ(a.nSupport, b.nSupport);
+		for (int k = 0; k < 3; ++k)
+			EXPECT_EQ(a.support[k], b.support[k]);
+	};
+	for (unsigned seed : { 31u, 32u }) {
+		const CrumpledScene sc(seed);
+		const TestMesh&     m        = sc.m;
+		long                touching = 0, owned = 0;
+		for (const auto& [as, bs] : { std::make_pair(sc.wires, sc.facets), std::make_pair(sc.wires2, sc.wires), std::make_pair(sc.wires, sc.wires2) })
+			for (int a : as)
+				for (int b : bs) {
+					const ElementNodes A = m.element(a), B = m.element(b);
+					if (shareNode(A, B)) continue;
+					const double reach = A.radius + B.radius;
+					const Vec3 & x0 = *m.pos(A.nodes[0]), &x1 = *m.pos(A.nodes[1]), &y0 = *m.pos(B.nodes[0]), &y1 = *m.pos(B.nodes[1]);
+					PairHit      given;
+					if (B.isTriangle()) {
+						const Vec3& y2 = *m.pos(B.nodes[2]);
+						if (!segmentTriangleApart(x0, x1, y0, y1, y2, reach))
+							given = segmentTrianglePairHit(A, B, closestPointsSegmentTriangle(x0, x1, y0, y1, y2), false);
+					} else if (a < b) { // (two segments: the lower id first, as pairHit)
+						if (!segmentsApart(x0, x1, y0, y1, reach))
+							given = segmentsPairHit(A, B, closestPointsSegments(x0, x1, y0, y1), false);
+					} else if (!segmentsApart(y0, y1, x0, x1, reach))
+						given = segmentsPairHit(B, A, closestPointsSegments(y0, y1, x0, x1), true);
+					const PairHit ref = pairHit(m, a, A, b, B);
+					EXPECT_EQ(given.overlap, ref.overlap);
+					EXPECT_EQ(given.n, ref.n);
+					same(given.hx, ref.hx);
+					same(given.hy, ref.hy);
+					if (!(ref.overlap > 0)) continue;
+					++touching;
+					std::pair<int, int> beaten[8], beaten2[8];
+					int                 nb = 0, nb2 = 0;
+					const bool          own = ownsPair(m, a, A, b, B, beaten, nb);
+					EXPECT_EQ(ownsPair(m, a, A, b, B, beaten2, nb2, true, &given), own);
+					owned += own;
+					if (!own) continue;
+					ASSERT_EQ(nb2, nb);
+					for (int k = 0; k < nb; ++k)
+						EXPECT_EQ(beaten2[k], beaten[k]);
+				}
+		EXPECT_GT(touching, 100);
+		EXPECT_GT(owned, 50);
+		EXPECT_LT(owned, touching); // (clusters of several pairs)
+	}
+}
