@@ -4,8 +4,8 @@
 // Ownership asks the mesh for the same few nodes and elements many times per pass (every member
 // of every cluster visits its neighbours); a scene's mesh answers each question by a chain of
 // dependent loads through its bodies. The table holds, for the ids entered (the elements and
-// their nodes), the answers of the mesh at refresh(): a node's position (copied) and the list of
-// elements on it, an element's nodes and radius, in two arrays read through a slot per id.
+// their nodes), copies of the mesh's answers at refresh(): a node's position and the elements on
+// it, an element's nodes and radius, in arrays read through a slot per id.
 // TabledMesh reads the table where it has an entry and the mesh elsewhere, so its answers are
 // the mesh's, bit for bit, as long as the table was refreshed since the mesh last changed: the
 // ids entered decide only what is fast, never what is answered.
@@ -20,9 +20,9 @@ namespace flex {
 class MeshTable {
 public:
 	struct Node {
-		Vec3                    pos      = Vec3::Zero();
-		bool                    hasPos   = false;   // the mesh's pos() was not null
-		const std::vector<int>* elements = nullptr; // the mesh's elementsAt()
+		Vec3 pos    = Vec3::Zero();
+		bool hasPos = false;      // the mesh's pos() was not null
+		int  first = 0, last = 0; // the mesh's elementsAt(), in onNodes_
 	};
 
 	/// No entries; ids from 0 to `ids` - 1 may be entered.
@@ -34,6 +34,7 @@ public:
 		elementIds_.clear();
 		nodes_.clear();
 		elements_.clear();
+		onNodes_.clear();
 	}
 	/// Enter an id as a node / an element (ids outside [0, ids) and repeats are left out).
 	void addNode(int id)
@@ -53,12 +54,16 @@ public:
 	/// Every entry asked of `mesh` again (the Mesh view of kernel/Ownership.hpp).
 	template <class Mesh> void refresh(const Mesh& mesh)
 	{
+		onNodes_.clear();
 		for (size_t k = 0; k < nodeIds_.size(); ++k) {
 			Node&       n = nodes_[k];
 			const Vec3* p = mesh.pos(nodeIds_[k]);
 			n.hasPos      = p != nullptr;
 			n.pos         = p ? *p : Vec3(Vec3::Zero());
-			n.elements    = mesh.elementsAt(nodeIds_[k]);
+			const auto on = mesh.elementsAt(nodeIds_[k]);
+			n.first       = (int)onNodes_.size();
+			onNodes_.insert(onNodes_.end(), on.begin(), on.end());
+			n.last = (int)onNodes_.size();
 		}
 		for (size_t k = 0; k < elementIds_.size(); ++k)
 			elements_[k] = mesh.element(elementIds_[k]);
@@ -76,7 +81,9 @@ public:
 		const int s = elementSlot_[id];
 		return s >= 0 ? &elements_[s] : nullptr;
 	}
-	long nodes() const { return (long)nodeIds_.size(); }
+	/// The elements on node n (an entry of this table).
+	IdRange elementsAt(const Node& n) const { return IdRange { onNodes_.data() + n.first, onNodes_.data() + n.last }; }
+	long    nodes() const { return (long)nodeIds_.size(); }
 	long elements() const { return (long)elementIds_.size(); }
 
 private:
@@ -84,6 +91,7 @@ private:
 	std::vector<int>          nodeIds_, elementIds_;   // by slot: the id
 	std::vector<Node>         nodes_;
 	std::vector<ElementNodes> elements_;
+	std::vector<int>          onNodes_; // the elements on each node, node after node
 };
 
 /// The Mesh view of kernel/Ownership.hpp: the table's entries where it has them (table null: none),
@@ -96,9 +104,9 @@ template <class Mesh> struct TabledMesh {
 		if (const MeshTable::Node* n = table ? table->node(id) : nullptr) return n->hasPos ? &n->pos : nullptr;
 		return mesh.pos(id);
 	}
-	const std::vector<int>* elementsAt(int id) const
+	IdRange elementsAt(int id) const
 	{
-		if (const MeshTable::Node* n = table ? table->node(id) : nullptr) return n->elements;
+		if (const MeshTable::Node* n = table ? table->node(id) : nullptr) return table->elementsAt(*n);
 		return mesh.elementsAt(id);
 	}
 	ElementNodes element(int id) const

@@ -14,7 +14,7 @@
 //
 // The kernel reads the mesh through a view, `Mesh`, with
 //   const Vec3*             pos(int node) const;        // the node's position; null: no such node
-//   const std::vector<int>* elementsAt(int node) const; // ids of the elements on the node; null: none
+//   IdRange                 elementsAt(int node) const; // ids of the elements on the node; empty: none
 //   ElementNodes            element(int id) const;      // nNodes 0: not an element
 #pragma once
 #include "ClosestPoints.hpp"
@@ -29,6 +29,17 @@
 #include <vector>
 
 namespace flex {
+
+/// Ids in an array, as a range (a mesh's elements on a node).
+struct IdRange {
+	const int* first = nullptr;
+	const int* last  = nullptr;
+	const int* begin() const { return first; }
+	const int* end() const { return last; }
+	bool       empty() const { return first == last; }
+};
+/// The ids of v (null: none).
+inline IdRange idRange(const std::vector<int>* v) { return v ? IdRange { v->data(), v->data() + v->size() } : IdRange(); }
 
 /// A deformable element seen by its nodes: 2 nodes a segment (a cylinder of `radius` around
 /// it), 3 a triangle (a facet of thickness 2 `radius`); 0 not an element.
@@ -157,9 +168,7 @@ inline bool ownsCluster(const Mesh& mesh, const ElementNodes& self, int selfId, 
 	for (int m = 0; m < nCl; ++m) {    // breadth-first over linked neighbours
 		const Member& cur = cl[m]; // (slots stay where they are while members are added)
 		for (int k = 0; k < cur.e.nNodes; ++k) {
-			const std::vector<int>* els = mesh.elementsAt(cur.e.nodes[k]);
-			if (!els) continue;
-			for (int other : *els) {
+			for (int other : mesh.elementsAt(cur.e.nodes[k])) {
 				bool dup = false;
 				for (int i = 0; i < nSeen && !dup; ++i)
 					dup = seen[i] == other;
@@ -407,10 +416,8 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
                                 return !screen || !coreFartherThan(mesh, oe, onPartner, far);
 			};
 			for (int k = 0; k < e.nNodes; ++k)
-				if (const std::vector<int>* els = mesh.elementsAt(e.nodes[k]))
-					for (int other : *els)
-						if (other != eId && visit(cur, side == 0 ? other : cur.ia, side == 0 ? cur.ib : other, link, mayLink))
-							return false;
+				for (int other : mesh.elementsAt(e.nodes[k]))
+					if (other != eId && visit(cur, side == 0 ? other : cur.ia, side == 0 ? cur.ib : other, link, mayLink)) return false;
 		}
 		// both change, where the contact sits on what each element shares with a neighbour (a
 		// wire's node above a seam of two facets: (wire 1, facet 2) and (wire 2, facet 1) touch at
@@ -422,14 +429,14 @@ inline bool ownsPair(const Mesh& mesh, int idA, const ElementNodes& A, int idB, 
 				return (hx.point - x.h.hx.point).squaredNorm() < reach * reach && (hy.point - x.h.hy.point).squaredNorm() < reach * reach
 				        && (cur.h.n.dot(x.h.n) > kMergeCos || cur.h.n.squaredNorm() == 0 || x.h.n.squaredNorm() == 0);
 			};
-			const std::vector<int>* as = mesh.elementsAt(hx.support[0]);
-			const std::vector<int>* bs = mesh.elementsAt(hy.support[0]);
-			if (as && bs)
-				for (int a2 : *as) {
+			const IdRange as = mesh.elementsAt(hx.support[0]);
+			const IdRange bs = mesh.elementsAt(hy.support[0]);
+			if (!bs.empty())
+				for (int a2 : as) {
 					if (a2 == cur.ia) continue;
 					const ElementNodes ea2 = mesh.element(a2);
 					if (!holds(ea2, hx)) continue;
-					for (int b2 : *bs)
+					for (int b2 : bs)
 						if (b2 != cur.ib && holds(mesh.element(b2), hy) && visit(cur, a2, b2, link, anyPair)) return false;
 				}
 		}

@@ -105,11 +105,11 @@ namespace flexa {
 			const State* s = stateOf(scene, id);
 			return s ? &s->pos : nullptr;
 		}
-		const std::vector<int>* elementsAt(int id) const
+		flex::IdRange elementsAt(int id) const
 		{
 			const Body*     nb   = bodyAt(scene, id);
 			const FlexNode* node = nb ? fastCast<FlexNode>(nb->shape.get()) : nullptr;
-			return node ? &node->elements : nullptr;
+			return flex::idRange(node ? &node->elements : nullptr);
 		}
 		flex::ElementNodes element(int id) const { return elementOf(scene, id); }
 	};
