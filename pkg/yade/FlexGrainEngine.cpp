@@ -73,7 +73,9 @@ bool FlexGrainEngine::gather()
 	const auto&     bodies = *scene->bodies;
 	const Material* mat    = scene->materials[material].get();
 	const long      n      = (long)ids.size();
+	const bool      pf     = n >= flexa::kPrefetchMin; // (small passes stay in cache)
 	for (long k = 0; k < n; ++k) {
+		if (pf) flexa::prefetchBodiesAhead(bodies.body.data(), ids.data(), n, k, [](const Body& c) { flexa::prefetchSphereParts<Sphere>(c); });
 		const Body* b = bodies.body[ids[k]].get();
 		if (!b || b->material.get() != mat || !(b->groupMask & grainBit)) return false;
 		const Sphere* s = flexa::fastCast<Sphere>(b->shape.get());

@@ -197,15 +197,7 @@ public:
 #pragma omp parallel for schedule(static) num_threads(threads) if (ns >= flexa::tuning::kSphereTableParallelMin)
 #endif
 		for (long k = 0; k < ns; ++k) {
-			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { // (of the state, only the lines of pos, vel and angVel)
-				if (const State* st = c.state.get()) {
-					flexa::prefetch(&st->se3.position, sizeof(Vector3r)); // (pos is a reference: reading it would wait)
-					flexa::prefetch(&st->vel, sizeof(Vector3r) + sizeof(Real)); // (and mass)
-					flexa::prefetch(&st->angVel, sizeof(Vector3r));
-					flexa::prefetch(&st->blockedDOFs, sizeof(unsigned));
-				}
-				flexa::prefetch(c.shape.get(), sizeof(Sphere));
-			});
+			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { flexa::prefetchSphereParts<Sphere>(c); });
 			const Body::id_t id = ids[k];
 			SpherePoint&     q  = p[id];
 			q.r                 = -1;

@@ -100,5 +100,18 @@ namespace flexa {
 		if (k + tuning::kAheadBodyParts < n)
 			if (const auto* c = body[ids[k + tuning::kAheadBodyParts]].get()) parts(*c);
 	}
+	/// For a pass that reads a sphere's position, velocities, mass and blocked DOFs from its state
+	/// and its radius (FlexInteractionLoop's sphere table, FlexGrainEngine): asks for those lines
+	/// of body c's state, and for its shape (a SphereShape).
+	template <class SphereShape, class BodyT> inline void prefetchSphereParts(const BodyT& c)
+	{
+		if (const auto* st = c.state.get()) {
+			prefetch(&st->se3.position, sizeof(st->se3.position));  // (pos is a reference: reading it would wait)
+			prefetch(&st->vel, sizeof(st->vel) + sizeof(st->mass)); // (and mass)
+			prefetch(&st->angVel, sizeof(st->angVel));
+			prefetch(&st->blockedDOFs, sizeof(st->blockedDOFs));
+		}
+		prefetch(c.shape.get(), sizeof(SphereShape));
+	}
 } // namespace flexa
 } // namespace yade
