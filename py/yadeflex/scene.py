@@ -63,8 +63,8 @@ def engines(gravity=(0, 0, -G), damping=0.0, timestep_safety=DEFAULT_TIMESTEP_SA
     The loop over interactions is FlexInteractionLoop: YADE's InteractionLoop with the same
     functor calls in the same order (same results) that asks for each interaction's data a few
     iterations ahead (pkg/yade/speed/FlexLoop.hpp; .prefetch = False runs InteractionLoop's own loop),
-    and leaves out the sphere pairs whose spheres are apart from a table of their centres before
-    reading their bodies (.quickReject; same results).
+    and leaves out the sphere pairs whose spheres are apart, and the spheres apart from YADE facets
+    and walls, from a table of their centres before reading their bodies (.quickReject; same results).
     crushing_is50 [Pa]: the point-load strength index Is(50) of the spheres' rock: the normal force
     of a sphere-sphere contact never passes the point-load failure load of the smaller sphere
     (yadeflex.crushing.failure_load); past it the contact yields, a stand-in for the grains'

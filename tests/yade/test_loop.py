@@ -12,7 +12,7 @@ import struct
 
 import pytest
 from yade import O
-from yade.wrapper import ElastMat, FlexInteractionLoop, InteractionLoop
+from yade.wrapper import ElastMat, FlexInteractionLoop, FrictMat, InteractionLoop
 
 import yadeflex as yf
 import yadeflex.harness.scenes as S
@@ -257,3 +257,58 @@ def test_quick_reject_table_is_made_only_after_steps_with_sphere_pairs(scene):
     O.engines = yf.engines(gravity=(0, 0, 0))
     O.step()
     assert O.interactions.has(w, s) and not O.interactions[w, s].isReal and _loop().quickCandidates == 0
+    # once its functor is known, the pair is judged from the tables as a sphere pair is, and a
+    # sphere's pair with a facet whose plane it is 0.1 mm off
+    f = O.bodies.append(utils.facet([(1, -0.5, 0), (1, 0.5, 0), (1, 0, 1)]))
+    s2 = S.sphere((1.0501, 0, 0.3), 0.05)
+    O.step()  # (the wall's pair now a candidate, but the step before had none: no table)
+    assert O.interactions.has(f, s2) and (_loop().quickCandidates, _loop().quickRejected) == (1, 0)
+    for _ in range(3):
+        O.step()
+        assert (_loop().quickCandidates, _loop().quickRejected) == (2, 2)
+    assert not any(i.isReal for i in O.interactions)
+
+
+def test_quick_reject_of_grains_beside_facets_and_walls_is_bit_identical(scene):
+    """Grains thrown about in a box of YADE facets, turned off the axes and open at the bottom, over
+    a Wall floor: the spheres' pairs with the facets and the wall without contact that quickReject
+    leaves out (judged from the tables of centres and planes, most from rememberSkips' records)
+    give the same state bit for bit as every pair through its functor, on the prefetching loop
+    and on InteractionLoop, while contacts with the sides and the floor start and end."""
+    import random
+    from yade import Quaternion, Vector3, geom, utils
+
+    def run(**attrs):
+        O.reset()
+        rnd = random.Random(7)
+        turn = Quaternion(Vector3(0.3, 0.2, 1).normalized(), 0.4)
+        centre = Vector3(0.2, -0.1, 0.16)
+        O.bodies.append(utils.wall(0, axis=2, sense=1))
+        O.bodies.append(geom.facetBox(centre, (0.15, 0.15, 0.15), orientation=turn, wallMask=63 - 16))
+        O.materials.append(FrictMat(young=1e8, poisson=0.25, density=2500, frictionAngle=0.5, label="gravel"))
+        for k in range(150):
+            b = O.bodies.append(utils.sphere(centre + turn * Vector3(*(rnd.uniform(-0.12, 0.12) for _ in range(3))), rnd.uniform(0.012, 0.02),
+                                             material="gravel"))
+            O.bodies[b].state.vel = tuple(rnd.uniform(-4, 4) for _ in range(3))
+        O.engines = yf.engines(grains="gravel")  # (the grains' pairs in FlexGrainEngine: the loop's are with the sides)
+        O.dt = 2e-5
+        _engine("flexDt").dead = True  # (no unreachable marks: every side pair is quickReject's)
+        for k, v in attrs.items():
+            setattr(_loop(), k, v)
+        rejected, touched = 0, set()
+        for k in range(3000):
+            O.step()
+            rejected = max(rejected, _loop().quickRejected)
+            if k % 10 == 0:
+                touched |= {(type(O.bodies[i.id1].shape).__name__, i.id2) for i in O.interactions
+                            if i.isReal and type(O.bodies[i.id1].shape).__name__ in ("Facet", "Wall")}
+        return _state_hash(), O.energy.total(), O.interactions.countReal(), rejected, touched
+
+    ref = run(prefetch=False)
+    off = run(quickReject=False)
+    on = run()
+    assert on[:3] == off[:3] == ref[:3]
+    assert on[4] == ref[4]
+    assert off[3] == 0 and on[3] > 100, on[3]  # pairs with the sides left out on some step (328)
+    kinds = [k for k, _ in on[4]]
+    assert kinds.count("Facet") > 50 and kinds.count("Wall") > 20, kinds  # spheres that touched the sides (139), the floor (58)

@@ -172,7 +172,7 @@ void FlexInteractionLoop::action()
 	fusedContacts   = nFused;
 	recalledSkips   = recalled;
 	lastFusable     = step.fusable.geoms ? nFusable : -1;
-	lastCandidates  = step.apart.readers ? candidates : -1; // (not counted: count on the next step)
+	lastCandidates  = step.apart.on() ? candidates : -1; // (not counted: count on the next step)
 	if (step.error) std::rethrow_exception(step.error);
 }
 

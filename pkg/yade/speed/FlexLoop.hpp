@@ -17,7 +17,10 @@
 //       functor would return false before changing anything), judged from a table of the
 //       spheres' centres and radii made at the start of the step (32 bytes per body in id order,
 //       r = -1 for bodies that are not plain spheres, which sends a pair to its functor); the
-//       table is made only on steps after one that had such pairs or new pairs;
+//       table is made only on steps after one that had such pairs or new pairs; the same for a
+//       sphere without contact beside a YADE Facet or Wall, farther from its plane than its
+//       radius, judged from a table of the facets' and walls' planes made with it (a grain in a
+//       container of facets, on a floor);
 //     - with rememberSkips, pairs left out on an earlier step: each is remembered (its object's
 //       address, its ids, a generation) and left out again from that 24-byte record, read in
 //       order, without reading its interaction object. A record holds while the object at its
@@ -87,6 +90,13 @@ public:
 		Vector3r vel, angVel;
 		Real     invMass;
 	};
+	/// a YADE Facet's or Wall's side for quickReject: kind 1, a Facet: its centre x and its
+	/// normal n = R * Facet::normal (R its orientation's matrix), `scale` = sum |R_ij| x sum
+	/// |normal_j| (the margin's factor); kind 2, a Wall: x and `axis`; kind 0: neither this step
+	struct SidePoint {
+		Real x[3], n[3], scale;
+		int  kind, axis;
+	};
 
 private:
 	// the geometry functors of the last step (address and dynamic type), and those among them
@@ -103,13 +113,21 @@ private:
 	// r = -1 (a body made a Sphere since then takes the full path, as any non-sphere)
 	std::vector<Body::id_t> sphereIds;
 	std::vector<char>       isSphereId; // by id: 1 for the bodies in sphereIds
+	// YADE's facet-sphere and wall-sphere functors among the geometry functors
+	// (Ig2_Facet_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom, exactly), the bodies that were a Facet or a
+	// Wall when sphereIds was made, their index in sideIds by id (-1: none) and this step's sides
+	std::vector<const IGeomFunctor*> sideReaders;
+	std::vector<Body::id_t>          sideIds;
+	std::vector<int>                 sideIx;
+	std::vector<SidePoint>           sidePoints;
 	const Scene*            sphereIdsScene  = nullptr;
 	long                    sphereIdsBodies = -1;
 	// contacts the fused path could take on the last step (fuseSpheres; -1: not counted yet):
 	// the table is made when this or lastCandidates is not 0
 	long lastFusable = -1;
 	// pairs that quickReject could have judged on the last step (no contact, and the sphere-sphere
-	// functor, or none cached yet between two bodies of sphereIds); -1: not counted yet. The table is made only when this is not 0
+	// functor, or none cached yet between two bodies of sphereIds, or a side's functor with a
+	// sphere); -1: not counted yet. The table is made only when this is not 0
 	// (a net of wires has no sphere pairs: making the table for nothing cost it 5 us of a 35 us step)
 	long lastCandidates = -1;
 	// the threads' own sums of the contact forces (threadSums, several threads)
@@ -118,7 +136,7 @@ private:
 	std::vector<Real> blockWeight;
 	// rememberSkips: by index in the interaction container, what pass 1 found out about the pair
 	// there while it did not touch it (kind 1: marked unreachable; kind 2: a sphere pair without
-	// contact for quickReject; 0: nothing), valid while the object there is still `ptr` and `gen`
+	// contact for quickReject; kind 3: a sphere beside a facet or wall, the same; 0: nothing), valid while the object there is still `ptr` and `gen`
 	// is its kind's current generation (genMarked, genQuick; FlexLoop.cpp). `held` keeps each
 	// remembered object alive, so that no other interaction can take its address while the record
 	// names it.
@@ -152,7 +170,7 @@ public:
 		((bool, prefetch, true, , "Use the prefetching loop; False runs InteractionLoop.action (for comparisons)"))
 		((int, blockSize, flexa::tuning::kBlockSize, , "Interactions per block (prefetching stays inside a block); on several threads each thread takes one contiguous run of blocks, so that its interactions, mostly of bodies near each other, stay in its core's cache, then blocks left at the end of the other threads' runs [-]"))
 		((Vector3i, ahead, Vector3i(flexa::tuning::kAheadObjects, flexa::tuning::kAheadTargets, flexa::tuning::kAheadStates), , "Prefetch distances [iterations]: interaction objects (pass 1, counted in objects read: those left out from rememberSkips' records do not count), their bodies, geom and phys, the bodies' states and shapes (pass 2, counted in interactions left after the unreachable ones); ahead[0] >= 1, ahead[0] >= ahead[1] >= ahead[2] >= 1"))
-		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), judged from a table of the spheres' centres and radii made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
+		((bool, quickReject, true, , "On the prefetching loop, leave out a sphere-sphere pair that has no contact and whose spheres are apart (Ig2_Sphere_Sphere_FlexContactGeom would return false at once), and a sphere without contact farther than its radius from the plane of a YADE Facet (Ig2_Facet_Sphere_ScGeom) or a Wall (Ig2_Wall_Sphere_ScGeom) that would equally return false at once, judged from a table of the spheres' centres and radii and the facets' and walls' planes made at the start of the step, before its bodies are read; False: every such pair goes to its functor (for comparisons). Same results either way."))
 		((bool, fuseSpheres, true, , "On the prefetching loop, run an existing sphere-sphere contact (Ig2_Sphere_Sphere_FlexContactGeom, Ip2_FrictMat_FrictMat_FrictPhys, Law2_FlexContactGeom_FrictPhys_CundallStrack, two plain spheres) as one call from a table of the spheres' centres, radii, velocities and angular velocities made at the start of the step, without reading their bodies, states and shapes or calling the three functors through the dispatch; False: through the functors (for comparisons). Same results bit for bit."))
 		((bool, threadSums, true, , "On the prefetching loop with several threads and at least threadSumsMin interactions, each thread sums the forces of the yade-flex contact law in its own arrays, added to O.forces once per body after the loop (flexa::ThreadForceSums: ForceContainer.addForce from two threads at once contends for shared cache lines); False: addForce per contact (for comparisons). Same forces up to round-off; one thread never uses them."))
 		((long, threadSumsMin, flexa::tuning::kThreadSumsMin, , "Fewest interactions for threadSums: below, the few addForce calls contend little and adding the sums (a pass over every body, on every thread) costs more (bench/profile_wire.py) [-]"))
@@ -163,9 +181,9 @@ public:
 		((long, recalledSkips, 0, Attr::readonly, "Pairs left out on the last step from rememberSkips' records, without reading their interaction objects [-]"))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))
 		((bool, usedThreadSums, false, Attr::readonly, "Whether the last step summed the yade-flex contact forces per thread (threadSums, several threads)"))
-		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step (with rememberSkips, also sphere pairs apart that are marked unreachable, when remembered from a step without marks) [-]"))
+		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step (with rememberSkips, also pairs apart that are marked unreachable, when remembered from a step without marks) [-]"))
 		((long, fusedContacts, 0, Attr::readonly, "Sphere-sphere contacts run by the fused path (fuseSpheres) on the last step [-]"))
-		((long, quickCandidates, 0, Attr::readonly, "Pairs quickReject could judge on the last step: no contact, and Ig2_Sphere_Sphere_FlexContactGeom or no functor yet (the table of centres is made on the next step only if this is not 0) [-]"))
+		((long, quickCandidates, 0, Attr::readonly, "Pairs quickReject could judge on the last step: no contact, and Ig2_Sphere_Sphere_FlexContactGeom or no functor yet between two spheres, or a sphere and Ig2_Facet_Sphere_ScGeom or Ig2_Wall_Sphere_ScGeom (the table of centres is made on the next step only if this is not 0) [-]"))
 	);
 	// clang-format on
 };

@@ -7,6 +7,7 @@
 #include "FlexTuning.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace yade {
@@ -75,23 +76,39 @@ namespace flexa {
 		// first thing (R1 + R2 - |x2 - x1| <= 0 for a new contact), changing nothing; the test here
 		// asks for more, |x2 - x1|^2 > (R1 + R2)^2 (1 + 1e-12), so that round-off can never make the
 		// two disagree (the pairs in between go to the functor).
+		// The same for a plain sphere (body 2) beside a YADE Facet or Wall (body 1, the functor's
+		// order) with no contact yet:
+		// - Ig2_Facet_Sphere_ScGeom returns false first thing when |normal . (R^T (x2 - x1))| > r,
+		//   which is (R normal) . (x2 - x1) for any R; computed in the other order its round-off is
+		//   below 1e-15 of sum |R_ij| sum |normal_j| sum |x2 - x1|, and the test here asks for r
+		//   plus 1e-12 of that;
+		// - Ig2_Wall_Sphere_ScGeom returns false when |x2[axis] - x1[axis]| > r, the same
+		//   arithmetic here.
 		struct Apart {
 			const std::vector<const IGeomFunctor*>* readers = nullptr; // the sphere-sphere functors (null: quickReject off)
+			const std::vector<const IGeomFunctor*>* sides   = nullptr; // the facet- and wall-sphere functors (null: quickReject off)
 			const FlexInteractionLoop::SpherePoint* p       = nullptr; // this step's table (null: not made)
 			long                                    n       = 0;
 			const char*                             sphere  = nullptr; // by id: a body of the loop's list of spheres
 			long                                    nIds    = 0;
-			// 0: not a candidate; 1: a candidate the table does not leave out (or no table); 2: left out.
-			// A candidate: no contact and the sphere-sphere functor, or no functor cached yet between
-			// two listed spheres (a new pair, or a contact that ended: the pair may become one; a
-			// grain's contact with a wall that ends does not make the table on the next step).
+			const int*                              sideIx  = nullptr; // by id: the index of its SidePoint (-1: none)
+			long                                    nSideIx = 0;
+			const FlexInteractionLoop::SidePoint*   side    = nullptr; // this step's sides (null: not made)
+			bool                                    on() const { return readers || sides; }
+			// 0: not a candidate; 1: a candidate the tables do not leave out (or no table); 2: a
+			// sphere pair left out; 3: a sphere beside a facet or wall left out. A candidate: no
+			// contact and the sphere-sphere functor, or no functor cached yet between two listed
+			// spheres (a new pair, or a contact that ended: the pair may become one; a grain's
+			// contact with a wall that ends does not make the table on the next step), or a side's
+			// functor.
 			int operator()(const Interaction& I) const
 			{
-				if (!readers || I.geom || !I.functorCache.geomExists) return 0;
+				if (!on() || I.geom || !I.functorCache.geomExists) return 0;
 				const IGeomFunctor* f = I.functorCache.geom.get();
-				if (!f) return listed(I.getId1()) && listed(I.getId2()) ? 1 : 0;
-				if (std::find(readers->begin(), readers->end(), f) == readers->end()) return 0;
-				return byIds(I.getId1(), I.getId2());
+				if (!f) return readers && listed(I.getId1()) && listed(I.getId2()) ? 1 : 0;
+				if (readers && std::find(readers->begin(), readers->end(), f) != readers->end()) return byIds(I.getId1(), I.getId2());
+				if (sides && std::find(sides->begin(), sides->end(), f) != sides->end()) return sideByIds(I.getId1(), I.getId2());
+				return 0;
 			}
 			bool listed(Body::id_t id) const { return id >= 0 && id < nIds && sphere[id]; }
 			// the table's part: 1 or 2 as above, for a candidate of these ids
@@ -103,6 +120,23 @@ namespace flexa {
 				if (a.r < 0 || b.r < 0) return 1;
 				const Real dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z, s = a.r + b.r;
 				return dx * dx + dy * dy + dz * dz > s * s * (1 + 1e-12) ? 2 : 1;
+			}
+			// the tables' part: 1 or 3 as above, for a side's candidate of these ids (i1 the side)
+			int sideByIds(Body::id_t i1, Body::id_t i2) const
+			{
+				if (!p || !side) return 1;
+				if (i1 < 0 || i2 < 0 || i1 >= nSideIx || i2 >= n || sideIx[i1] < 0) return 1;
+				const FlexInteractionLoop::SidePoint&   f = side[sideIx[i1]];
+				const FlexInteractionLoop::SpherePoint& b = p[i2];
+				if (b.r < 0) return 1;
+				const Real d[3] = { b.x - f.x[0], b.y - f.x[1], b.z - f.x[2] };
+				if (f.kind == 1) {
+					const Real L      = f.n[0] * d[0] + f.n[1] * d[1] + f.n[2] * d[2];
+					const Real margin = 1e-12 * f.scale * (std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]));
+					return std::abs(L) > b.r + margin ? 3 : 1;
+				}
+				if (f.kind == 2) return std::abs(d[f.axis]) > b.r ? 3 : 1;
+				return 1;
 			}
 		};
 

@@ -8,6 +8,10 @@
 
 #include <kernel/BlockShares.hpp>
 
+#include <pkg/common/Facet.hpp>
+#include <pkg/common/Wall.hpp>
+#include <pkg/dem/Ig2_Facet_Sphere_ScGeom.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -53,7 +57,7 @@ public:
 	const SpherePoint*                            pts      = nullptr;
 	const SphereMotion*                           mot      = nullptr;
 	Remembered*                                   rec      = nullptr;
-	unsigned                                      gen[3]   = { 0, 0, 0 }; // by kind
+	unsigned                                      gen[4]   = { 0, 0, 0, 0 }; // by kind
 	bool                                          weighted = false;
 	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
 	flex::BlockShares                             shares; // the blocks still to run of each thread's share
@@ -126,11 +130,14 @@ public:
 			L.seenFunctors.clear();
 			L.markReaders.clear();
 			L.sphereReaders.clear();
+			L.sideReaders.clear();
 			for (const auto& f : L.geomDispatcher->functors) {
 				const IGeomFunctor* g = f.get();
 				L.seenFunctors.emplace_back(g, g ? &typeid(*g) : nullptr);
 				if (flexa::readsUnreachableMarks(g) || flexa::skipsMarkedAsApart(g)) L.markReaders.push_back(g);
 				if (g && typeid(*g) == typeid(Ig2_Sphere_Sphere_FlexContactGeom)) L.sphereReaders.push_back(g);
+				if (g && (typeid(*g) == typeid(Ig2_Facet_Sphere_ScGeom) || typeid(*g) == typeid(Ig2_Wall_Sphere_ScGeom)))
+					L.sideReaders.push_back(g);
 			}
 		}
 		marked = Marked(scene, &L.markReaders);
@@ -154,39 +161,53 @@ public:
 		}
 		fusedLaw = const_cast<Law2_FlexContactGeom_FrictPhys_CundallStrack*>(
 		        static_cast<const Law2_FlexContactGeom_FrictPhys_CundallStrack*>(fusable.law));
-		// (the sphere functor throws in periodic scenes: not used there)
+		// (the sphere functor throws in periodic scenes: not used there; the sides' tests assume no shift)
 		if (L.quickReject && !L.sphereReaders.empty() && !scene->isPeriodic) apart.readers = &L.sphereReaders;
-		if (apart.readers || fusable.geoms) listSpheres();
-		apart.sphere = L.isSphereId.data();
-		apart.nIds   = (long)L.isSphereId.size();
+		if (L.quickReject && !L.sideReaders.empty() && !scene->isPeriodic) apart.sides = &L.sideReaders;
+		if (apart.on() || fusable.geoms) listSpheres();
+		apart.sphere  = L.isSphereId.data();
+		apart.nIds    = (long)L.isSphereId.size();
+		apart.sideIx  = L.sideIx.data();
+		apart.nSideIx = (long)L.sideIx.size();
 	}
 
-	// the list of the bodies that are plain Spheres, again when the scene or the body count changed
+	// the lists of the bodies that are plain Spheres and of the Facets and Walls, again when the
+	// scene or the body count changed
 	void listSpheres()
 	{
 		const long nb = bodies.n;
 		if (scene == L.sphereIdsScene && nb == L.sphereIdsBodies) return;
 		L.sphereIds.clear();
+		L.sideIds.clear();
 		L.isSphereId.assign(nb, 0);
+		L.sideIx.assign(nb, -1);
 		L.spherePoints.assign(nb, SpherePoint());
 		for (long id = 0; id < nb; ++id) {
 			L.spherePoints[id].r = -1;
 			const Body* b        = bodies.p[id].get();
-			if (b && b->shape && typeid(*b->shape) == typeid(Sphere)) {
+			if (!b || !b->shape) continue;
+			const std::type_info& t = typeid(*b->shape);
+			if (t == typeid(Sphere)) {
 				L.sphereIds.push_back((Body::id_t)id);
 				L.isSphereId[id] = 1;
+			} else if (t == typeid(Facet) || t == typeid(Wall)) {
+				L.sideIx[id] = (int)L.sideIds.size();
+				L.sideIds.push_back((Body::id_t)id);
 			}
 		}
+		L.sidePoints.resize(L.sideIds.size());
 		L.sphereIdsScene  = scene;
 		L.sphereIdsBodies = nb;
 	}
 
-	// this step's table of sphere centres and radii (quickReject) and motion (fuseSpheres)
+	// this step's table of sphere centres and radii (quickReject, fuseSpheres) and motion (only
+	// for fuseSpheres)
 	void makeSphereTable()
 	{
-		if (!((apart.readers && L.lastCandidates != 0) || (fusable.geoms && L.lastFusable != 0))) return;
+		const bool fuse = fusable.geoms && L.lastFusable != 0;
+		if (!((apart.on() && L.lastCandidates != 0) || fuse)) return;
 		L.spherePoints.resize(bodies.n);
-		L.sphereMotion.resize(bodies.n);
+		if (fuse) L.sphereMotion.resize(bodies.n);
 		SpherePoint*  p  = L.spherePoints.data();
 		SphereMotion* mv = L.sphereMotion.data();
 		const long    nb = bodies.n;
@@ -197,7 +218,10 @@ public:
 #pragma omp parallel for schedule(static) num_threads(threads) if (ns >= flexa::tuning::kSphereTableParallelMin)
 #endif
 		for (long k = 0; k < ns; ++k) {
-			flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { flexa::prefetchSphereParts<Sphere>(c); });
+			if (fuse)
+				flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { flexa::prefetchSphereParts<Sphere>(c); });
+			else
+				flexa::prefetchBodiesAhead(bodies.p, ids, ns, k, [](const Body& c) { flexa::prefetchSphereCentre<Sphere>(c); });
 			const Body::id_t id = ids[k];
 			SpherePoint&     q  = p[id];
 			q.r                 = -1;
@@ -211,21 +235,58 @@ public:
 			q.y               = x[1];
 			q.z               = x[2];
 			q.r               = static_cast<const Sphere*>(sh)->radius;
+			if (!fuse) continue;
 			mv[id].vel        = st->vel;
 			mv[id].angVel     = st->angVel;
 			// (flexa::ContactSide::invMass of a rigid side, for the crossing correction)
 			mv[id].invMass = (!b->isDynamic() || (st->blockedDOFs & State::DOF_XYZ) == State::DOF_XYZ || !(st->mass > 0)) ? Real(0) : 1 / st->mass;
 		}
-		if (apart.readers) {
+		if (apart.on()) {
 			apart.p = p;
 			apart.n = nb;
 		}
-		if (fusable.geoms) {
+		if (apart.sides) makeSideTable();
+		if (fuse) {
 			fusable.p = p;
 			fusable.n = nb;
 		}
 		pts = fusable.p;
 		mot = fusable.p ? L.sphereMotion.data() : nullptr;
+	}
+
+	// this step's planes of the listed Facets and Walls (apart.sides; each still checked: erased, or
+	// its shape replaced: kind 0)
+	void makeSideTable()
+	{
+		for (size_t k = 0; k < L.sideIds.size(); ++k) {
+			SidePoint&  f = L.sidePoints[k];
+			const Body* b = bodies.get(L.sideIds[k]);
+			f.kind        = 0;
+			if (!b || !b->shape || !b->state) continue;
+			const Shape*    sh = b->shape.get();
+			const Vector3r& x  = b->state->se3.position;
+			for (int i = 0; i < 3; ++i)
+				f.x[i] = x[i];
+			if (typeid(*sh) == typeid(Facet)) {
+				const Matrix3r  R   = b->state->se3.orientation.toRotationMatrix();
+				const Vector3r& nl  = static_cast<const Facet*>(sh)->normal;
+				const Vector3r  nw  = R * nl;
+				Real            sum = 0;
+				for (int i = 0; i < 3; ++i) {
+					f.n[i] = nw[i];
+					for (int j = 0; j < 3; ++j)
+						sum += std::abs(R(i, j));
+				}
+				f.scale = sum * (std::abs(nl[0]) + std::abs(nl[1]) + std::abs(nl[2]));
+				f.kind  = 1;
+			} else if (typeid(*sh) == typeid(Wall)) {
+				const int ax = static_cast<const Wall*>(sh)->axis;
+				if (ax < 0 || ax > 2) continue;
+				f.axis = ax;
+				f.kind = 2;
+			}
+		}
+		apart.side = L.sidePoints.data();
 	}
 
 	// rememberSkips: a new generation of records whenever what they were judged against changes.
@@ -237,7 +298,7 @@ public:
 	{
 		if (L.rememberSkips) {
 			const unsigned long marksGen = marked.valid ? flexa::sceneState(scene).unreachable.generation : 0;
-			const bool          quick    = apart.readers != nullptr;
+			const bool          quick    = apart.on();
 			const bool          newQuick = !sameFunctors || scene != L.recScene || &ic != L.recContainer || quick != L.recQuick;
 			const bool          newMarked
 			        = newQuick || marked.valid != L.recMarksValid || marksGen != L.recMarks || ic.iterColliderLastRun != L.recColliderRun;
@@ -267,6 +328,7 @@ public:
 		}
 		gen[1] = L.genMarked;
 		gen[2] = L.genQuick;
+		gen[3] = L.genQuick;
 	}
 	// whether pass 1 can leave out the pair at i from its record alone (kind 1 still asks whether
 	// its bodies exist, kind 2 the table)
@@ -388,14 +450,14 @@ public:
 							++cnt.recalled;
 							continue;
 						}
-					} else if (apart.p) { // kind 2: what apart(J) would find, from the ids
+					} else if (apart.p) { // kinds 2 and 3: what apart(J) would find, from the ids
 						++cnt.candidates;
-						if (apart.byIds(r->id1, r->id2) == 2) {
+						if ((r->kind == 2 ? apart.byIds(r->id1, r->id2) : apart.sideByIds(r->id1, r->id2)) == r->kind) {
 							++cnt.rejected;
 							++cnt.recalled;
 							continue;
 						}
-						// the spheres close: to pass 2 (no contact yet, so not fusable), and read
+						// the bodies close: to pass 2 (no contact yet, so not fusable), and read
 						// again on the next step
 						rec[i].kind   = 0;
 						fused[nLive]  = false;
@@ -415,9 +477,9 @@ public:
 			}
 			if (const int a = apart(J)) {
 				++cnt.candidates;
-				if (a == 2) {
+				if (a >= 2) {
 					++cnt.rejected;
-					if (rec) remember(i, J, 2);
+					if (rec) remember(i, J, (unsigned char)a);
 					continue;
 				}
 			}

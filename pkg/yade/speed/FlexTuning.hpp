@@ -113,5 +113,11 @@ namespace flexa {
 		}
 		prefetch(c.shape.get(), sizeof(SphereShape));
 	}
+	/// The same for a sphere's centre and radius only.
+	template <class SphereShape, class BodyT> inline void prefetchSphereCentre(const BodyT& c)
+	{
+		if (const auto* st = c.state.get()) prefetch(&st->se3.position, sizeof(st->se3.position));
+		prefetch(c.shape.get(), sizeof(SphereShape));
+	}
 } // namespace flexa
 } // namespace yade
