@@ -322,6 +322,22 @@ void FlexGrainEngine::action()
 	}
 }
 
+FlexGrainEngine::Gathered FlexGrainEngine::gatheredAt(long iter) const
+{
+	Gathered g;
+	if (material < 0 || lastIter != iter || !gc) return g;
+	g.ids     = ids.data();
+	g.pos     = pos.data();
+	g.vel     = vel.data();
+	g.angVel  = angVel.data();
+	g.radius  = radius.data();
+	g.invMass = invMass.data();
+	g.indexOf = indexOf.data();
+	g.n       = (long)ids.size();
+	g.nIds    = (long)indexOf.size();
+	return g;
+}
+
 void FlexGrainEngine::addStepRows(Real* row, Real* rowRot, BodyColumn invSqrtMass, BodyColumn Imin) const
 {
 	if (!gc || !nb || material < 0) return;

@@ -67,6 +67,19 @@ public:
 		Vector3r   x1, x2, point, normal, normalForce, shearForce;
 		Real       depth;
 	};
+	/// The grains as this engine read them from their bodies at its step of iteration `iter`
+	/// (null ids if it did not run at `iter`): by grain index, body ids (ascending), centres,
+	/// velocities, angular velocities, radii and inverse masses (0: cannot move); the grain index of
+	/// each body id below nIds (-1: not a grain). The values stay those of the bodies until an
+	/// engine after this one changes a body.
+	struct Gathered {
+		const Body::id_t* ids = nullptr;
+		const Vector3r *  pos = nullptr, *vel = nullptr, *angVel = nullptr;
+		const Real *      radius = nullptr, *invMass = nullptr;
+		const int*        indexOf = nullptr;
+		long              n = 0, nIds = 0;
+	};
+	Gathered gatheredAt(long iter) const;
 	/// f(i, j, state) for each contact state (grain indices i < j), in pair order.
 	template <class F> void forEachState(F f) const;
 	/// f(row) for each contact carrying force at the last step, in pair order.

@@ -20,7 +20,9 @@
 //       table is made only on steps after one that had such pairs or new pairs; the same for a
 //       sphere without contact beside a YADE Facet or Wall, farther from its plane than its
 //       radius, judged from a table of the facets' and walls' planes made with it (a grain in a
-//       container of facets, on a floor);
+//       container of facets, on a floor). The grains of a FlexGrainEngine that ran right before
+//       this loop go into the table from that engine's arrays, which hold the same values read
+//       from the same bodies at this step;
 //     - with rememberSkips, pairs left out on an earlier step: each is remembered (its object's
 //       address, its ids, a generation) and left out again from that 24-byte record, read in
 //       order, without reading its interaction object. A record holds while the object at its
@@ -112,7 +114,8 @@ private:
 	// the scene changed): the table is filled from these bodies only, every other entry keeps
 	// r = -1 (a body made a Sphere since then takes the full path, as any non-sphere)
 	std::vector<Body::id_t> sphereIds;
-	std::vector<char>       isSphereId; // by id: 1 for the bodies in sphereIds
+	std::vector<char>       isSphereId;     // by id: 1 for the bodies in sphereIds
+	std::vector<Body::id_t> otherSphereIds; // this step's sphereIds that a FlexGrainEngine did not read (the table's)
 	// YADE's facet-sphere and wall-sphere functors among the geometry functors
 	// (Ig2_Facet_Sphere_ScGeom, Ig2_Wall_Sphere_ScGeom, exactly), the bodies that were a Facet or a
 	// Wall when sphereIds was made, their index in sideIds by id (-1: none) and this step's sides

@@ -3,6 +3,7 @@
 #pragma once
 #include "FlexLoop.hpp"
 #include "FlexLoopFilters.hpp"
+#include "../FlexGrainEngine.hpp"
 #include "../FlexProtocol.hpp"
 #include "FlexTuning.hpp"
 
@@ -58,6 +59,7 @@ public:
 	const SphereMotion*                           mot      = nullptr;
 	Remembered*                                   rec      = nullptr;
 	unsigned                                      gen[4]   = { 0, 0, 0, 0 }; // by kind
+	std::vector<FlexGrainEngine::Gathered>        gathered;                  // (makeSphereTable)
 	bool                                          weighted = false;
 	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
 	flex::BlockShares                             shares; // the blocks still to run of each thread's share
@@ -211,9 +213,44 @@ public:
 		SpherePoint*  p  = L.spherePoints.data();
 		SphereMotion* mv = L.sphereMotion.data();
 		const long    nb = bodies.n;
-		// the listed bodies (each still checked: erased, or its shape replaced: r = -1)
+		// the listed grains from their engines' arrays
+		findGathered();
+		const char* listed  = L.isSphereId.data();
+		const long  nListed = (long)L.isSphereId.size();
+		for (const FlexGrainEngine::Gathered& g : gathered) {
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads) if (g.n >= flexa::tuning::kSphereTableParallelMin)
+#endif
+			for (long k = 0; k < g.n; ++k) {
+				const Body::id_t id = g.ids[k];
+				if (id < 0 || id >= nListed || !listed[id]) continue;
+				SpherePoint&    q = p[id];
+				const Vector3r& x = g.pos[k];
+				q.x               = x[0];
+				q.y               = x[1];
+				q.z               = x[2];
+				q.r               = g.radius[k];
+				if (!fuse) continue;
+				mv[id].vel     = g.vel[k];
+				mv[id].angVel  = g.angVel[k];
+				mv[id].invMass = g.invMass[k];
+			}
+		}
+		// the other listed bodies (each still checked: erased, or its shape replaced: r = -1)
 		const Body::id_t* ids = L.sphereIds.data();
-		const long        ns  = (long)L.sphereIds.size();
+		long              ns  = (long)L.sphereIds.size();
+		if (!gathered.empty()) {
+			L.otherSphereIds.clear();
+			for (long k = 0; k < ns; ++k) {
+				const Body::id_t id    = ids[k];
+				bool             grain = false;
+				for (const FlexGrainEngine::Gathered& g : gathered)
+					grain = grain || (id < g.nIds && g.indexOf[id] >= 0);
+				if (!grain) L.otherSphereIds.push_back(id);
+			}
+			ids = L.otherSphereIds.data();
+			ns  = (long)L.otherSphereIds.size();
+		}
 #ifdef YADE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(threads) if (ns >= flexa::tuning::kSphereTableParallelMin)
 #endif
@@ -252,6 +289,27 @@ public:
 		}
 		pts = fusable.p;
 		mot = fusable.p ? L.sphereMotion.data() : nullptr;
+	}
+
+	// The grains that the FlexGrainEngines running right before this loop (dead engines aside) read
+	// from their bodies at this step (FlexGrainEngine::gatheredAt): their gather reads the same
+	// fields as the table and computes the inverse mass alike, and no other engine ran since, so
+	// the table takes the same values from their arrays instead of the bodies.
+	void findGathered()
+	{
+		gathered.clear();
+		const auto& es = scene->engines;
+		long        at = -1;
+		for (size_t i = 0; i < es.size() && at < 0; ++i)
+			if (es[i].get() == &L) at = (long)i;
+		for (long i = at - 1; i >= 0; --i) {
+			const Engine* e = es[i].get();
+			if (e && e->dead) continue;
+			const FlexGrainEngine* ge = dynamic_cast<const FlexGrainEngine*>(e);
+			if (!ge) break;
+			const FlexGrainEngine::Gathered g = ge->gatheredAt(scene->iter);
+			if (g.ids) gathered.push_back(g);
+		}
 	}
 
 	// this step's planes of the listed Facets and Walls (apart.sides; each still checked: erased, or
