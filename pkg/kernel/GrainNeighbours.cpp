@@ -76,39 +76,73 @@ void GrainNeighbours::build(const Vec3* pos, const double* radius, long n)
 		for (long i = 0; i < n; ++i)
 			if (cellOf_[i] < cells) sorted_[fill[cellOf_[i]]++] = (int)i;
 	}
-	const auto near = [&](long i, int j) {
-		const double reach = radius[i] + radius[j] + skin_;
-		return (pos[j] - pos[i]).squaredNorm() < reach * reach;
-	};
-	std::vector<int> mine;
-	for (long i = 0; i < n; ++i) {
-		mine.clear();
-		if (cellOf_[i] == cells) { // a large sphere: every sphere after it
-			for (long j = i + 1; j < n; ++j)
-				if (near(i, (int)j)) mine.push_back((int)j);
-			second_.insert(second_.end(), mine.begin(), mine.end());
-			first_[i + 1] = (long)second_.size();
-			continue;
-		}
-		for (int j : large_)
-			if (j > i && near(i, j)) mine.push_back(j);
-		long c[3];
-		cellIndex(pos[i], c);
-		for (long dx = -1; dx <= 1; ++dx)
-			for (long dy = -1; dy <= 1; ++dy)
-				for (long dz = -1; dz <= 1; ++dz) {
-					const long x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-					if (x < 0 || y < 0 || z < 0 || x >= nc[0] || y >= nc[1] || z >= nc[2]) continue;
-					const long cell = (x * nc[1] + y) * nc[2] + z;
-					for (long k = cellStart_[cell]; k < cellStart_[cell + 1]; ++k) {
-						const int j = sorted_[k];
-						if (j > i && near(i, j)) mine.push_back(j);
-					}
-				}
-		std::sort(mine.begin(), mine.end());
-		second_.insert(second_.end(), mine.begin(), mine.end());
-		first_[i + 1] = (long)second_.size();
+	// the spheres in cell order, centre and radius side by side: a cell's spheres are read as one
+	// stream
+	const long inCells = cellStart_[cells];
+	packed_.resize(inCells);
+	for (long k = 0; k < inCells; ++k) {
+		const int j = sorted_[k];
+		packed_[k]  = Packed { pos[j], radius[j] };
 	}
+	// every pair is met once: from the sphere earlier in cell order, in its own cell and in the 13
+	// cells after its cell (the half of the 26 neighbours whose offset comes first in x, then y,
+	// then z). Cells adjacent in z are adjacent in that order, so the 13 cells are 5 runs: the next
+	// cell of the column, and the three cells about z of columns (x, y + 1), (x + 1, y - 1 .. y + 1).
+	// |x_j - x_i|^2 and r_i + r_j + skin are the same either way round, so the list is that of
+	// testing every pair (i, j), i < j.
+	found_.clear();
+	const auto add  = [&](int p, int q) { found_.push_back(p < q ? std::make_pair(p, q) : std::make_pair(q, p)); };
+	const auto near = [&](const Packed& a, const Packed& b) {
+		const double reach = a.r + b.r + skin_;
+		return (b.x - a.x).squaredNorm() < reach * reach;
+	};
+	static const int kColumns[4][2] = { { 0, 1 }, { 1, -1 }, { 1, 0 }, { 1, 1 } };
+	for (long x = 0; x < nc[0]; ++x)
+		for (long y = 0; y < nc[1]; ++y)
+			for (long z = 0; z < nc[2]; ++z) {
+				const long cell = (x * nc[1] + y) * nc[2] + z, b = cellStart_[cell], e = cellStart_[cell + 1];
+				if (b == e) continue;
+				long run[4][2];
+				int  nRun = 0;
+				for (const auto& o : kColumns) {
+					const long x2 = x + o[0], y2 = y + o[1];
+					if (x2 >= nc[0] || y2 < 0 || y2 >= nc[1]) continue;
+					const long c2   = (x2 * nc[1] + y2) * nc[2];
+					const long from = cellStart_[c2 + std::max(0L, z - 1)], to = cellStart_[c2 + std::min(nc[2] - 1, z + 1) + 1];
+					if (from == to) continue;
+					run[nRun][0]   = from;
+					run[nRun++][1] = to;
+				}
+				const long columnEnd = cellStart_[cell + (z + 1 < nc[2] ? 2 : 1)]; // this cell and the next in z
+				for (long k = b; k < e; ++k) {
+					const Packed& a = packed_[k];
+					const int     i = sorted_[k];
+					for (long k2 = k + 1; k2 < columnEnd; ++k2)
+						if (near(a, packed_[k2])) add(i, sorted_[k2]);
+					for (int o = 0; o < nRun; ++o)
+						for (long k2 = run[o][0]; k2 < run[o][1]; ++k2)
+							if (near(a, packed_[k2])) add(i, sorted_[k2]);
+				}
+			}
+	// the large spheres with every other sphere (two large ones: from the lower id)
+	for (int i : large_) {
+		const Packed a { pos[i], radius[i] };
+		for (long j = 0; j < n; ++j)
+			if (j != i && !(cellOf_[j] == cells && j < i) && near(a, Packed { pos[j], radius[j] })) add(i, (int)j);
+	}
+	// CSR by the first sphere, each row ascending
+	for (const auto& p : found_)
+		++first_[p.first + 1];
+	for (long i = 0; i < n; ++i)
+		first_[i + 1] += first_[i];
+	second_.resize(found_.size());
+	{
+		std::vector<long> fill(first_.begin(), first_.end() - 1);
+		for (const auto& p : found_)
+			second_[fill[p.first]++] = p.second;
+	}
+	for (long i = 0; i < n; ++i)
+		std::sort(second_.begin() + first_[i], second_.begin() + first_[i + 1]);
 }
 
 } // namespace flex

@@ -5,8 +5,9 @@
 // (no contact missed) while every sphere has moved less than skin / 2 from where it was at the
 // build: two spheres then close their gap by less than the skin. The list is built by binning
 // the centres into cubic cells of side at least 2 r_max + skin (every listed pair then lies in
-// the same or adjacent cells), a counting sort of the spheres by cell, and a scan of the 27
-// cells around each sphere. A few spheres much larger than the rest (more than kLargeRatio times
+// the same or adjacent cells), a counting sort of the spheres by cell (their centres and radii
+// copied in that order), and a scan of each cell against itself and the 13 cells after it, which
+// meets every pair once. A few spheres much larger than the rest (more than kLargeRatio times
 // the median radius: a boulder on a bed) are left out of the cells, which would otherwise be sized
 // by them, and paired with every sphere directly (LAMMPS's `multi` does the same by size classes):
 // their pairs cost O(n) each per build. Pairs are stored sphere by sphere (CSR: the partners of i are
@@ -15,6 +16,7 @@
 #pragma once
 #include "Types.hpp"
 
+#include <utility>
 #include <vector>
 
 namespace flex {
@@ -52,6 +54,12 @@ private:
 	// the binning's work arrays (kept to avoid allocating at each build)
 	std::vector<long> cellOf_, cellStart_;
 	std::vector<int>  sorted_, large_;
+	struct Packed {
+		Vec3   x;
+		double r;
+	};
+	std::vector<Packed>              packed_; // the spheres in cell order
+	std::vector<std::pair<int, int>> found_;  // the pairs found, (lower, higher) index
 };
 
 } // namespace flex
