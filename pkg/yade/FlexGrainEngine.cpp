@@ -74,25 +74,34 @@ bool FlexGrainEngine::gather()
 	const Material* mat    = scene->materials[material].get();
 	const long      n      = (long)ids.size();
 	const bool      pf     = n >= flexa::kPrefetchMin; // (small passes stay in cache)
+	// the first grain that is no longer one (the list is then found again) and the first with a
+	// bad radius: whichever comes first decides, as in a pass that stops at it
+	long firstOther = n, firstBad = n;
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) if (n >= flexa::tuning::kGrainBodiesParallelMin) reduction(min : firstOther, firstBad)
+#endif
 	for (long k = 0; k < n; ++k) {
 		if (pf) flexa::prefetchBodiesAhead(bodies.body.data(), ids.data(), n, k, [](const Body& c) { flexa::prefetchSphereParts<Sphere>(c); });
-		const Body* b = bodies.body[ids[k]].get();
-		if (!b || b->material.get() != mat || !(b->groupMask & grainBit)) return false;
-		const Sphere* s = flexa::fastCast<Sphere>(b->shape.get());
-		if (!s) return false;
+		const Body*   b = bodies.body[ids[k]].get();
+		const Sphere* s = b && b->material.get() == mat && (b->groupMask & grainBit) ? flexa::fastCast<Sphere>(b->shape.get()) : nullptr;
+		if (!s) {
+			firstOther = std::min(firstOther, k);
+			continue;
+		}
 		const State& st = *b->state;
 		pos[k]          = st.pos;
 		vel[k]          = st.vel;
 		angVel[k]       = st.angVel;
 		radius[k]       = s->radius;
 		invMass[k]      = (!b->isDynamic() || (st.blockedDOFs & State::DOF_XYZ) == State::DOF_XYZ || !(st.mass > 0)) ? 0.0 : 1 / st.mass;
-		if (!(radius[k] > 0) || !std::isfinite(radius[k])) {
-			std::ostringstream os;
-			os << "grain #" << ids[k] << " has radius " << radius[k] << ": a grain's radius must be finite and > 0";
-			refuse(os.str());
-		}
+		if (!(radius[k] > 0) || !std::isfinite(radius[k])) firstBad = std::min(firstBad, k);
 	}
-	return true;
+	if (firstBad < firstOther) {
+		std::ostringstream os;
+		os << "grain #" << ids[firstBad] << " has radius " << radius[firstBad] << ": a grain's radius must be finite and > 0";
+		refuse(os.str());
+	}
+	return firstOther == n;
 }
 
 // The grains found again (at the first step, and when bodies came or went): their masks, the
@@ -244,9 +253,7 @@ void FlexGrainEngine::action()
 		builds = nb->builds();
 	}
 	gc->setLaw(grainLaw());
-	const long n = (long)ids.size();
-	std::fill(force.begin(), force.end(), flex::Vec3::Zero());
-	std::fill(torque.begin(), torque.end(), flex::Vec3::Zero());
+	const long              n = (long)ids.size();
 	const flex::GrainMotion m { pos.data(), vel.data(), angVel.data(), radius.data(), invMass.data(), n };
 	int                     threads = 1;
 #ifdef YADE_OPENMP
@@ -257,12 +264,10 @@ void FlexGrainEngine::action()
 	if (threads > 1) {
 		threadForce.resize(threads - 1);
 		threadTorque.resize(threads - 1);
-		for (int t = 1; t < threads; ++t) {
-			threadForce[t - 1].assign(n, flex::Vec3::Zero());
-			threadTorque[t - 1].assign(n, flex::Vec3::Zero());
-		}
 	}
 	const Real ratio0 = law->maxOverlapRatio;
+	// each thread zeroes its own force sums and steps its part of the pairs into them; then (once
+	// all are done) each adds up a share of the grains' sums, in thread order, into YADE's forces
 #ifdef YADE_OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
@@ -272,11 +277,45 @@ void FlexGrainEngine::action()
 #else
 		const int t = 0;
 #endif
+		std::vector<flex::Vec3>& f = t == 0 ? force : threadForce[t - 1];
+		std::vector<flex::Vec3>& q = t == 0 ? torque : threadTorque[t - 1];
+		f.assign(n, flex::Vec3::Zero());
+		q.assign(n, flex::Vec3::Zero());
 		flex::GrainSums& s = part[t];
-		s.force            = t == 0 ? force.data() : threadForce[t - 1].data();
-		s.torque           = t == 0 ? torque.data() : threadTorque[t - 1].data();
+		s.force            = f.data();
+		s.torque           = q.data();
 		s.maxOverlapRatio  = ratio0;
 		gc->step(m, scene->iter, scene->dt, s, gc->splitAt(t, threads), gc->splitAt(t + 1, threads));
+		if (threads == 1) {
+			for (long k = 0; k < n; ++k) {
+				if (force[k] != flex::Vec3::Zero()) scene->forces.addForce(ids[k], force[k]);
+				if (torque[k] != flex::Vec3::Zero()) scene->forces.addTorque(ids[k], torque[k]);
+			}
+		} else {
+			// on several threads, into the container's sums (addForce from several threads
+			// writes shared words of the container at every call): they are first brought up to
+			// date (sync), as the interaction loop's per-thread sums are (flexa::mergeThreadSums)
+#ifdef YADE_OPENMP
+#pragma omp barrier
+#pragma omp single
+#endif
+			{
+				if (n > 0) scene->forces.addMaxId(*std::max_element(ids.begin(), ids.end()));
+				scene->forces.sync();
+			}
+#ifdef YADE_OPENMP
+#pragma omp for schedule(static)
+#endif
+			for (long k = 0; k < n; ++k) {
+				flex::Vec3 fk = force[k], qk = torque[k];
+				for (int u = 1; u < threads; ++u) {
+					fk += threadForce[u - 1][k];
+					qk += threadTorque[u - 1][k];
+				}
+				if (fk != flex::Vec3::Zero()) scene->forces.addForceUnsynced(ids[k], fk);
+				if (qk != flex::Vec3::Zero()) scene->forces.addTorqueUnsynced(ids[k], qk);
+			}
+		}
 	}
 	flex::GrainSums sum;
 	sum.maxOverlapRatio = ratio0;
@@ -293,15 +332,6 @@ void FlexGrainEngine::action()
 			sum.maxOverlapI     = s.maxOverlapI;
 			sum.maxOverlapJ     = s.maxOverlapJ;
 		}
-	}
-	for (long k = 0; k < n; ++k) {
-		flex::Vec3 f = force[k], q = torque[k];
-		for (int t = 1; t < threads; ++t) {
-			f += threadForce[t - 1][k];
-			q += threadTorque[t - 1][k];
-		}
-		if (f != flex::Vec3::Zero()) scene->forces.addForce(ids[k], f);
-		if (q != flex::Vec3::Zero()) scene->forces.addTorque(ids[k], q);
 	}
 	contacts = sum.touching;
 	lastIter = scene->iter;

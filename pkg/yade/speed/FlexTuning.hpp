@@ -20,6 +20,8 @@ namespace flexa {
 		constexpr long kStepperParallelMin = 4096;
 		/// FlexInteractionLoop: spheres for the parallel pass that fills the table of centres.
 		constexpr long kSphereTableParallelMin = 1024;
+		/// FlexGrainEngine: grains for the parallel pass that reads their bodies.
+		constexpr long kGrainBodiesParallelMin = 1024;
 		/// FlexTimeStepper: bodies for the parallel pass that gathers what the estimate needs of each.
 		constexpr long kStepperBodiesParallelMin = 1024;
 		/// FlexInteractionLoop.threadSumsMin: interactions for per-thread force sums.
