@@ -2,7 +2,7 @@
 # YADE, one thread (issue 59, first step) (GPL-2.0-or-later).
 #
 #     OMP_NUM_THREADS=1 yade-double -n -j1 -x bench/lammps_grains.py [--quick] [--rounds N] [--steps N]
-#         [--steps-big N] [--copies N] [--no-big] [--cache-dir DIR]
+#         [--steps-big N] [--copies N] [--no-big] [--same-process] [--cache-dir DIR]
 #
 # The bed: the settled grains of the main job's filled module (bench_grains.py's grains_of: the
 # cached default module, ModuleParams()), on the slab (a Wall at z = 0) inside a rigid frictionless
@@ -14,7 +14,10 @@
 # Cases: "rest": the bed as settled, from rest; "impact": an 800 kg SPHERE (density 2400 kg/m3,
 # 0.861 m across, the fill's material) on the axis of the first copy, starting --warmup steps
 # above the bed at 6.26 m/s (sqrt(2 G 2 m)), so that it touches the bed when the timing starts.
-# Each run: a new scene (or a new LAMMPS process), --warmup steps untimed, then --steps timed.
+# Each run: a new process (yade-double running this script with --child, or LAMMPS), --warmup
+# steps untimed, then --steps timed. (--same-process: the YADE runs one after another in this
+# process instead, each on a new scene; those built after others ran up to 1.7x slower there,
+# most likely their bodies scattered over the heap the earlier scenes left: bench/README.md.)
 # Timed: yade O.run(steps, True) wall clock; LAMMPS the "Loop time" of the timed `run` (its setup
 # excluded, as our scene building is). Reported in microseconds per particle-step (particles:
 # grains + the sphere; the facets and the slab are not counted).
@@ -74,6 +77,7 @@
 # lammps_grains[_quick]_machine.txt, and prints a table.
 import argparse
 import csv
+import json
 import math
 import os
 import re
@@ -126,6 +130,9 @@ def parse():
     ap.add_argument("--lmp", default="lmp")
     ap.add_argument("--cache-dir", default=os.path.join(os.path.expanduser("~"), ".cache", "yadeflex", "modules"))
     ap.add_argument("--out", default=os.path.join(BENCH, "results"))
+    ap.add_argument("--same-process", action="store_true",
+                    help="run the YADE engines in this process, one scene after another (as before 2026-12-07 night), not each in a fresh one")
+    ap.add_argument("--child", nargs=3, metavar=("ENGINE", "CASE", "COPIES"), help=argparse.SUPPRESS)
     a = ap.parse_args(sys.argv[me + 1:])
     if a.quick:
         a.rounds, a.steps, a.no_big = 1, 300, True
@@ -230,6 +237,28 @@ def run_yade(a, p, grains, kind, copies, case, steps):
     if imp is not None:
         r.update(peak_kN=peak[0] / 1e3, depth=z0 - O.bodies[imp].state.pos[2], v_end=O.bodies[imp].state.vel[2])
     return r
+
+
+def run_yade_fresh(a, copies, case, kind, steps):
+    """run_yade in a fresh yade-double process (this script with --child), as LAMMPS runs in one
+    (a scene built after others in the same process runs slower: bench/README.md)."""
+    me = os.path.join(BENCH, "lammps_grains.py")
+    cmd = ["yade-double", "-n", "-j1", "-x", me, "--child", kind, case, str(copies), "--steps", str(steps), "--warmup", str(a.warmup),
+           "--dt", repr(a.dt), "--mass", repr(a.mass), "--speed", repr(a.speed), "--cache-dir", a.cache_dir, "--out", a.out]
+    out = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    line = next((ln for ln in out.stdout.splitlines() if ln.startswith("LG_CHILD ")), None)
+    if out.returncode != 0 or line is None:
+        raise RuntimeError(f"lammps_grains: the run of {kind} ({case}, {copies} bed(s)) failed:\n{out.stdout[-2000:]}\n{out.stderr[-2000:]}")
+    return json.loads(line[len("LG_CHILD "):])
+
+
+def child(a):
+    """--child ENGINE CASE COPIES: one run_yade, its result printed as one JSON line."""
+    kind, case, copies = a.child[0], a.child[1], int(a.child[2])
+    p = ModuleParams()
+    grains, _ = bed(p, a.cache_dir)
+    r = run_yade(a, p, grains, kind, copies, case, a.steps)
+    print("LG_CHILD " + json.dumps(r), flush=True)
 
 
 def write_lammps(a, p, grains, copies, case, law, kn, workdir, steps):
@@ -347,6 +376,9 @@ def med_range(v):
 
 def main():
     a = parse()
+    if a.child:
+        child(a)
+        return
     if not shutil.which(a.lmp):
         sys.exit(f"lammps_grains: LAMMPS ({a.lmp}) not found: install it (apt-get install lammps) or give its path with --lmp")
     p = ModuleParams()
@@ -374,8 +406,10 @@ def main():
             t0 = time.time()
             if e.startswith("lmp"):
                 r = run_lammps(a, p, grains, copies, case, e, kn, workdir, steps)
-            else:
+            elif a.same_process:
                 r = run_yade(a, p, grains, e, copies, case, steps)
+            else:
+                r = run_yade_fresh(a, copies, case, e, steps)
             r.update(copies=copies, grains=copies * len(grains), case=case, engine=e, round=rnd)
             raw.append(r)
             raw_w.writerow(r)
