@@ -24,8 +24,8 @@
 # own), loop, loop_norol (our plugin with the grain-grain contacts in its interaction loop, dt held),
 # flex, flex_norol (the same with them in FlexGrainEngine, the kernel inside YADE, as the module's
 # impact runs them: lammps_grains.py's flex runs), lmp_gran (LAMMPS granular + rolling sds),
-# lmp_hooke (LAMMPS gran/hooke/history); all on one thread but kernel_j2. Microseconds per
-# particle-step (wall clock), medians and ranges.
+# lmp_hooke (LAMMPS gran/hooke/history); all on one thread but kernel_j2, every run a process of
+# its own. Microseconds per particle-step (wall clock), medians and ranges.
 # Writes bench/results/grain_kernel[_quick].csv and grain_kernel[_quick]_raw.csv, prints a table.
 import argparse
 import csv
@@ -128,7 +128,7 @@ def main():
         elif e.startswith("lmp"):
             r = LG.run_lammps(la, p, grains, 1, case, e, kn, workdir, a.steps)
         else:
-            r = LG.run_yade(la, p, grains, e, 1, case, a.steps)
+            r = LG.run_yade_fresh(la, 1, case, e, a.steps)  # (a process of its own, as lammps_grains.py runs it)
         r.update(engine=e, round=rnd, case=case)
         raw.append(r)
         extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm" if case == "impact" else ""

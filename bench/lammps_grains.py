@@ -242,7 +242,9 @@ def run_yade(a, p, grains, kind, copies, case, steps):
 def run_yade_fresh(a, copies, case, kind, steps):
     """run_yade in a fresh yade-double process (this script with --child), as LAMMPS runs in one
     (a scene built after others in the same process runs slower: bench/README.md)."""
-    me = os.path.join(BENCH, "lammps_grains.py")
+    # (imported, as by grain_kernel.py: this module's file; run by yade-double -x, where __file__ is
+    # not this script's: found from the command line, BENCH)
+    me = os.path.abspath(__file__) if __name__ == "lammps_grains" else os.path.join(BENCH, "lammps_grains.py")
     cmd = ["yade-double", "-n", "-j1", "-x", me, "--child", kind, case, str(copies), "--steps", str(steps), "--warmup", str(a.warmup),
            "--dt", repr(a.dt), "--mass", repr(a.mass), "--speed", repr(a.speed), "--cache-dir", a.cache_dir, "--out", a.out]
     out = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
