@@ -40,7 +40,8 @@ namespace flexa {
 
 	/// 2. Unreachable marks: a mark is the pair's ids at its index in the interaction container (an
 	/// interaction moved by an erase no longer matches and is simply tested). Writer:
-	/// FlexTimeStepper. Readers: the geometry functors and FlexInteractionLoop, on the next steps,
+	/// FlexTimeStepper (its estimates, and at the start of FlexInteractionLoop on a step the
+	/// collider ran). Readers: the geometry functors and FlexInteractionLoop, on the next steps,
 	/// concurrently. Lifetime: until the InsertionSortCollider runs again.
 	struct UnreachableMarks {
 		bool                                  set = false;       // false: no marks
@@ -54,6 +55,14 @@ namespace flexa {
 		/// velocity: flexa::standsStill), which no sweep bounds: FlexInteractionLoop holds the marks
 		/// only while each still stands.
 		std::vector<Body::id_t> still;
+		/// Marks made at the start of a FlexInteractionLoop (FlexTimeStepper::markBeforeLoop) on a
+		/// step the collider ran: the iteration, and the loop's place in the engine list. The
+		/// estimate at the end of that step sees the same positions and takes them as its own
+		/// (-1: the marks were made by an estimate), unless an element was erased since (the
+		/// count of element erasures then).
+		long   earlyIter     = -1;
+		size_t earlyLoopIx   = 0;
+		long   earlyErasures = 0;
 		/// Whether the marks hold for their scene s: made, its collider still the one in its engine
 		/// list (O.engines replaced: the new list's collider has its own bounds, and the old one's
 		/// count would never move again), and that collider has not run since (its count is read

@@ -3,6 +3,7 @@
 // pkg/kernel/ContactRows.hpp.
 #include "speed/FlexStepperContacts.hpp"
 #include "FlexRefuse.hpp"
+#include "FlexElementEngine.hpp"
 #include "FlexElements.hpp"
 #include "FlexLaws.hpp"
 #include "FlexProtocol.hpp"
@@ -132,13 +133,42 @@ Real FlexTimeStepper::criticalImpl(bool mark) const
 	Real c = 0;
 	for (const auto& e : scene->engines)
 		if (const NewtonIntegrator* nw = dynamic_cast<const NewtonIntegrator*>(e.get())) c = std::max(c, std::abs(nw->damping));
-	// (one table of the bodies for both bounds)
-	ContactRowsPass pass(scene, prefetch, skipUnreachable, mark, nullptr);
-	const Real      wc = pass.run(stiffestContactBody, skippedCache);
+	// (one table of the bodies for both bounds; the pass that made the marks before the loop of
+	// this step, if they hold)
+	std::shared_ptr<ContactRowsPass> pp;
+	if (mark && marksBeforeLoop && earlyPass && earlyPassIter == scene->iter && earlyMarksHold()) {
+		pp = std::static_pointer_cast<ContactRowsPass>(earlyPass);
+		pp->adoptMarks();
+	} else
+		pp = std::make_shared<ContactRowsPass>(scene, prefetch, skipUnreachable, mark, nullptr);
+	earlyPass.reset();
+	ContactRowsPass& pass = *pp;
+	const Real       wc   = pass.run(stiffestContactBody, skippedCache);
 	const Real      wb = bondsOmega2(scene, pass.bodies(), stiffestBondBody);
 	stillCache         = pass.still();
 	stiffestCache      = wc >= wb ? stiffestContactBody : stiffestBondBody;
 	return flex::criticalTimeStep((1 + c) * (wb + wc));
+}
+
+bool FlexTimeStepper::earlyMarksHold() const
+{
+	const flexa::UnreachableMarks& m = flexa::sceneState(scene).unreachable;
+	if (!m.valid(scene) || m.earlyIter != scene->iter || m.earlyErasures != flexa::sceneState(scene).elementErasures) return false;
+	const auto&  E  = scene->engines;
+	const size_t me = std::find_if(E.begin(), E.end(), [this](const shared_ptr<Engine>& e) { return e.get() == this; }) - E.begin();
+	if (me >= E.size() || m.earlyLoopIx >= me) return false;
+	for (size_t k = m.earlyLoopIx + 1; k < me; ++k)
+		if (E[k] && !E[k]->dead && typeid(*E[k]) != typeid(FlexElementEngine)) return false;
+	return true;
+}
+
+void FlexTimeStepper::markBeforeLoop(size_t loopIx)
+{
+	if (!skipUnreachable || !markUnreachable || !marksBeforeLoop || scene->isPeriodic || flexa::insertionSortColliderRuns(scene) < 0) return;
+	auto pass = std::make_shared<ContactRowsPass>(scene, prefetch, skipUnreachable, true, nullptr);
+	pass->markOnly(loopIx);
+	earlyPass     = pass; // (for the estimate at the end of this step)
+	earlyPassIter = scene->iter;
 }
 
 void FlexTimeStepper::validate() const
@@ -153,6 +183,7 @@ void FlexTimeStepper::action()
 {
 	flexa::checkScene(scene, this);
 	validate(); // (a value refused when set stays stored: it must not run)
+	if (earlyPass && earlyPassIter != scene->iter) earlyPass.reset(); // (made on a step without an estimate)
 	// Also whenever the collider ran: only the collider adds (potential) interactions, and a new
 	// pair may be stiffer than any counted so far. Contacts ending between collider runs can only
 	// lengthen the critical step: they wait for the next update. (Recomputing at every change of

@@ -71,6 +71,7 @@ def _run_from_saved(steps=400, engines=None, between=None, **attrs):
 
 
 NO_PREFETCH = {"newton": {"prefetch": False}, "flexDt": {"prefetch": False}}
+LATE_MARKS = {"flexDt": {"marksBeforeLoop": False}}
 
 
 def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
@@ -82,12 +83,15 @@ def test_prefetching_loop_is_bit_identical_to_interaction_loop(impact_state):
     assert ref[6] == 0
     for attrs in (dict(), dict(blockSize=7), dict(blockSize=4096, ahead=(40, 20, 1)), dict(ahead=(1, 1, 1)), dict(quickReject=False),
                   dict(fuseSpheres=False), dict(quickReject=False, fuseSpheres=False), dict(rememberSkips=False),
-                  dict(rememberSkips=False, quickReject=False), dict(compactEvery=1), dict(compactEvery=0), dict(compactEvery=7, blockSize=7)):
+                  dict(rememberSkips=False, quickReject=False), dict(compactEvery=1), dict(compactEvery=0), dict(compactEvery=7, blockSize=7),
+                  dict(engines=LATE_MARKS)):
         got = _run_from_saved(**attrs)
         assert all(got[3]), attrs  # every step on the prefetching loop
         assert got[:3] == ref[:3], attrs
-        # sphere pairs apart left out before their bodies are read (on by default)
-        assert (got[5] > 100) if attrs.get("quickReject", True) else (got[5] == 0), attrs
+        # sphere pairs apart left out before their bodies are read (on by default): on some step,
+        # 83 with the stepper's marks made before the loop on the steps the collider ran (marked
+        # pairs are left out first), 170 with the marks made at the end of those steps
+        assert (got[5] > (100 if "engines" in attrs else 50)) if attrs.get("quickReject", True) else (got[5] == 0), attrs
         # sphere contacts run by the fused path (on by default): most of the contacts here are
         # grain-grain (76 of the 96 fused on some step)
         assert (got[6] > ref[2] // 2) if attrs.get("fuseSpheres", True) else (got[6] == 0), attrs

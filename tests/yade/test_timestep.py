@@ -238,6 +238,20 @@ def _state():
     return [(tuple(b.state.pos), tuple(b.state.vel), tuple(b.state.angVel)) for b in O.bodies]
 
 
+def _with_and_without(attr, run):
+    """run(stepper, collider) from the scene as it is now, with energy tracked, with the time
+    stepper's `attr` on and then off: (its result on, its result off)."""
+    O.trackEnergy = True
+    O.saveTmp("with_and_without")
+    runs = {}
+    for flag in (True, False):
+        O.loadTmp("with_and_without")
+        st = O.engines[-2]
+        setattr(st, attr, flag)
+        runs[flag] = run(st, next(e for e in O.engines if e.label == "collider"))
+    return runs[True], runs[False]
+
+
 @pytest.mark.parametrize("target,steps,min_skipped,min_facets", [(_net_target, 20000, 3000, 0), (_sheet_target, 3000, 3000, 0),
                                                                   (_facet_box_target, 3000, 300, 300)], ids=["net", "sheet", "facet_box"])
 def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps, min_skipped, min_facets):
@@ -246,13 +260,8 @@ def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps
     bit for bit as one that tests them (one thread: the force sums are then in a fixed order),
     through impacts, showers and many collider runs, with many pairs skipped."""
     _shower(target, seed=7)
-    O.trackEnergy = True
-    O.saveTmp("marks")
-    runs = {}
-    for mark in (True, False):
-        O.loadTmp("marks")
-        st, col = O.engines[-2], next(e for e in O.engines if e.label == "collider")
-        st.markUnreachable = mark
+
+    def run(st, col):
         n0, skipped, facets, touched = col.numAction, 0, 0, set()
         for _ in range(steps // 10):
             for _ in range(10):
@@ -261,12 +270,39 @@ def test_functors_skipping_unreachable_pairs_change_nothing(scene, target, steps
             if min_facets:
                 facets += _facets_in(st.unreachablePairs())
             touched |= {(i.id1, i.id2) for i in O.interactions if i.isReal}
-        runs[mark] = (_state(), O.dt, O.energy.total(), col.numAction - n0, skipped, len(touched), facets)
-    on, off = runs[True], runs[False]
+        return (_state(), O.dt, O.energy.total(), col.numAction - n0, skipped, len(touched), facets)
+    on, off = _with_and_without("markUnreachable", run)
     assert on[0] == off[0] and on[1] == off[1] and on[2] == off[2]
     # not vacuous: collider runs, pairs skipped (summed over the samples; those with a YADE facet),
     # distinct contacts
     assert on[3] > 100 and on[4] > min_skipped and on[5] > 20 and on[6] >= min_facets, on[3:]
+
+
+@pytest.mark.parametrize("target,steps", [(_net_target, 3000), (_sheet_target, 2000), (_facet_box_target, 2000)], ids=["net", "sheet", "facet_box"])
+def test_marks_made_before_the_loop_change_nothing(scene, target, steps):
+    """On a step the collider ran, the stepper makes the marks at the start of the interaction
+    loop (marksBeforeLoop), so that the loop leaves those pairs out on that step too, and its
+    estimate at the end of the step takes them as its own. Nothing moves in between, so the run
+    must be the same bit for bit as one whose marks are made at the end of the step: the state,
+    every time step and the energy. Not vacuous: on the steps the collider ran, the loop left
+    marked pairs out with marksBeforeLoop (more than one a step) and none without."""
+    _shower(target, seed=3)
+    assert O.engines[-2].marksBeforeLoop  # (the default)
+
+    def run(st, col):
+        loop = next(e for e in O.engines if e.label == "interactionLoop")
+        dts, left_out, collider_steps = [], 0, 0
+        for _ in range(steps):
+            n0 = col.numAction
+            O.step()
+            dts.append(O.dt)
+            if col.numAction != n0:
+                collider_steps += 1
+                left_out += loop.markedSkips
+        return (_state(), dts, O.energy.total(), left_out, collider_steps)
+    on, off = _with_and_without("marksBeforeLoop", run)
+    assert on[0] == off[0] and on[1] == off[1] and on[2] == off[2]
+    assert on[4] > 20 and on[3] > on[4] and off[3] == 0, (on[3:], off[3:])
 
 
 def test_the_pairs_of_a_facet_that_starts_moving_are_tested_again(scene):
@@ -277,13 +313,8 @@ def test_the_pairs_of_a_facet_that_starts_moving_are_tested_again(scene):
     _shower(_facet_box_target, seed=11)
     side = [b.id for b in O.bodies if b.shape.__class__.__name__ == "Facet" and max(b.shape.vertices[k][0] + b.state.pos[0] for k in range(3)) < 1e-9]
     assert len(side) == 2  # the two triangles of the side x = 0
-    O.trackEnergy = True
-    O.saveTmp("moving")
-    runs = {}
-    for mark in (True, False):
-        O.loadTmp("moving")
-        st = O.engines[-2]
-        st.markUnreachable = mark
+
+    def run(st, col):
         left_out = 0
         for _ in range(40):
             O.run(10, True)
@@ -294,8 +325,8 @@ def test_the_pairs_of_a_facet_that_starts_moving_are_tested_again(scene):
         while O.bodies[side[0]].state.pos[0] < 0.25:  # (the box is 0.5 m wide)
             O.step()
             met |= {i.id2 if i.id1 in side else i.id1 for i in O.interactions if i.isReal and (i.id1 in side or i.id2 in side)}
-        runs[mark] = (_state(), O.dt, O.energy.total(), left_out, len(met))
-    on, off = runs[True], runs[False]
+        return (_state(), O.dt, O.energy.total(), left_out, len(met))
+    on, off = _with_and_without("markUnreachable", run)
     assert on[0] == off[0] and on[1] == off[1] and on[2] == off[2]
     assert on[3] > 20 and on[4] > 3, on[3:]  # facet pairs were left out while the box stood; the side met grains moving
 

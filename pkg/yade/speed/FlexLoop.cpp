@@ -9,6 +9,7 @@
 #include "FlexTuning.hpp"
 #include "../FlexSceneCheck.hpp"
 #include "../FlexSurfaces.hpp"
+#include "../FlexTimeStepper.hpp"
 
 #include <lib/factory/ClassFactory.hpp>
 
@@ -79,6 +80,28 @@ void flexa::bookDeferredEnergies(Scene* scene)
 	d.terms.clear();
 }
 
+namespace {
+	// On a step the collider ran (it retires the marks of the pairs that cannot touch before it
+	// runs again), the first FlexTimeStepper after this loop in O.engines makes them now, from the
+	// positions its estimate at the end of the step will see, so that this step leaves those pairs
+	// out too (FlexTimeStepper.marksBeforeLoop).
+	void marksFirst(Scene* scene, const Engine* loop)
+	{
+		if (flexa::sceneState(scene).unreachable.valid(scene)) return;
+		const auto& E  = scene->engines;
+		size_t      me = E.size();
+		for (size_t k = 0; k < E.size(); ++k) {
+			if (E[k].get() == loop)
+				me = k;
+			else if (me < E.size() && E[k] && !E[k]->dead)
+				if (FlexTimeStepper* st = dynamic_cast<FlexTimeStepper*>(E[k].get())) {
+					st->markBeforeLoop(me);
+					return;
+				}
+		}
+	}
+} // namespace
+
 // Whether this step needs InteractionLoop's own loop (and runs it): callbacks, sorted
 // interactions, the collider's removal of unseen interactions, settings out of range.
 bool FlexInteractionLoop::fallBack()
@@ -95,6 +118,7 @@ bool FlexInteractionLoop::fallBack()
 	quickCandidates = 0;
 	fusedContacts   = 0;
 	recalledSkips   = 0;
+	markedSkips     = 0;
 	lastCandidates  = -1;
 	lastFusable     = -1;
 	recScene        = nullptr; // (InteractionLoop may give any pair a geometry: the records start again)
@@ -121,6 +145,7 @@ void FlexInteractionLoop::action()
 	flexa::checkScene(scene, this);
 	flexa::addSurfaceNodePairs(scene); // (the collider does not pair nodes: FlexSurfaces.hpp)
 	if (fallBack()) return;
+	marksFirst(scene, this);
 	usedFastPath          = true;
 	lawDispatcher->scene  = scene;
 	physDispatcher->scene = scene;
@@ -132,6 +157,7 @@ void FlexInteractionLoop::action()
 	quickCandidates = 0;
 	fusedContacts   = 0;
 	recalledSkips   = 0;
+	markedSkips     = 0;
 	if (scene->interactions->size() == 0) {
 		lastCandidates = 0;
 		lastFusable    = 0;
@@ -151,9 +177,9 @@ void FlexInteractionLoop::action()
 	step.makeShares();
 	step.prepareThreadSums();
 	const flexa::MeshPass meshPass(scene); // (nothing moves until the threads end)
-	long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+	long                  rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0, nMarked = 0;
 #ifdef YADE_OPENMP
-#pragma omp parallel num_threads(step.threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled)
+#pragma omp parallel num_threads(step.threads) reduction(+ : rejected, candidates, nFusable, nFused, recalled, nMarked)
 #endif
 	{
 		Step::Counts cnt;
@@ -163,6 +189,7 @@ void FlexInteractionLoop::action()
 		nFusable += cnt.nFusable;
 		nFused += cnt.nFused;
 		recalled += cnt.recalled;
+		nMarked += cnt.marked;
 	}
 	step.releaseEnded();
 	flexa::bookDeferredEnergies(scene);
@@ -171,6 +198,7 @@ void FlexInteractionLoop::action()
 	quickCandidates = candidates;
 	fusedContacts   = nFused;
 	recalledSkips   = recalled;
+	markedSkips     = nMarked;
 	lastFusable     = step.fusable.geoms ? nFusable : -1;
 	lastCandidates  = step.apart.on() ? candidates : -1; // (not counted: count on the next step)
 	if (step.error) std::rethrow_exception(step.error);

@@ -182,6 +182,7 @@ public:
 		((long, compactedContacts, 0, Attr::readonly, "Contacts copied by the last compaction (compactEvery) [-]"))
 		((long, compactedBlocks, 0, Attr::readonly, "Blocks of memory the last compaction filled: one per thread that had contacts to copy in its part of the container [-]"))
 		((long, recalledSkips, 0, Attr::readonly, "Pairs left out on the last step from rememberSkips' records, without reading their interaction objects [-]"))
+		((long, markedSkips, 0, Attr::readonly, "Pairs left out on the last step because FlexTimeStepper marked them as unable to touch before the collider runs again (see FlexTimeStepper.markUnreachable, marksBeforeLoop) [-]"))
 		((bool, usedFastPath, false, Attr::readonly, "Whether the last step used the prefetching loop"))
 		((bool, usedThreadSums, false, Attr::readonly, "Whether the last step summed the yade-flex contact forces per thread (threadSums, several threads)"))
 		((long, quickRejected, 0, Attr::readonly, "Pairs left out by quickReject on the last step (with rememberSkips, also pairs apart that are marked unreachable, when remembered from a step without marks) [-]"))

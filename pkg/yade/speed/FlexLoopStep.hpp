@@ -78,7 +78,7 @@ public:
 	std::vector<Ended> ended;
 	// what a thread counts (summed over the threads)
 	struct Counts {
-		long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0;
+		long rejected = 0, candidates = 0, nFusable = 0, nFused = 0, recalled = 0, marked = 0;
 	};
 
 	explicit Step(FlexInteractionLoop& loop)
@@ -506,6 +506,7 @@ public:
 					if (r->kind == 1) {
 						if (bodies.get(r->id1) && bodies.get(r->id2)) {
 							++cnt.recalled;
+							++cnt.marked;
 							continue;
 						}
 					} else if (apart.p) { // kinds 2 and 3: what apart(J) would find, from the ids
@@ -530,6 +531,7 @@ public:
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
 			const Interaction& J = *intrs[i];
 			if (marked(J) && bodies.get(J.getId1()) && bodies.get(J.getId2())) {
+				++cnt.marked;
 				if (rec) remember(i, J, 1);
 				continue;
 			}

@@ -124,6 +124,11 @@ namespace flexa {
 		// the estimate is made again when one moves, still()); everything else counts as before.
 		// With `mark`, the pairs left out are also marked for the geometry functors and the loop
 		// (flexa::UnreachableMarks, which hold only while those facets stand still).
+		//
+		// FlexTimeStepper::markBeforeLoop makes the marks alone (markOnly) at the start of the loop
+		// on a step the collider ran; its estimate at the end of the step, from the same positions,
+		// then runs on that pass (adoptMarks): the same tables of the bodies, a marked pair left out
+		// without its test, the others tested and marked as usual.
 		class ContactRowsPass {
 		public:
 			ContactRowsPass(
@@ -145,6 +150,7 @@ namespace flexa {
 					marks.still.clear();
 					++marks.generation;
 					marks.pair.assign(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
+					marks.earlyIter = -1;
 				}
 			}
 
@@ -164,7 +170,7 @@ namespace flexa {
 				if (!skippedOut && nI >= flexa::tuning::kStepperParallelMin) nThreads = omp_get_max_threads();
 #endif
 				std::vector<std::vector<Real>> moreRows(2 * (nThreads - 1), std::vector<Real>(sb.size(), 0));
-				if (canSkip) computeSides(nThreads);
+				if (canSkip && !sidesMade) computeSides(nThreads);
 				long skipped = 0;
 #ifdef YADE_OPENMP
 #pragma omp parallel num_threads(nThreads) reduction(+ : skipped)
@@ -204,15 +210,7 @@ namespace flexa {
 						};
 						ge.addStepRows(row.data(), rowRot.data(), column(sb[0].invSqrtMass), column(sb[0].Imin));
 					});
-				if (mark && canSkip) { // valid until the collider runs (else none: marks.set stays false)
-					const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
-					marks.collider                    = collider;
-					marks.runs                        = &static_cast<const InsertionSortCollider&>(*collider).numAction;
-					marks.runsAtMarking               = *marks.runs;
-					marks.colliderIx = std::find(scene->engines.begin(), scene->engines.end(), collider) - scene->engines.begin();
-					marks.still      = still();
-					marks.set        = true;
-				}
+				if (mark && canSkip) finishMarks();
 				Real w2  = 0;
 				stiffest = -1;
 				for (size_t i = 0; i < row.size(); ++i)
@@ -221,6 +219,42 @@ namespace flexa {
 						stiffest = (Body::id_t)i;
 					}
 				return w2;
+			}
+			/// The marks alone, without rows (FlexTimeStepper::markBeforeLoop, for the loop at place
+			/// loopIx in the engine list), made as run() makes them.
+			void markOnly(size_t loopIx)
+			{
+				if (!mark || !canSkip) return; // (no marks: marks.set stays false)
+				InteractionContainer& ic = *scene->interactions;
+				nI                       = (long)ic.size();
+				intrs                    = nI ? &ic[0] : nullptr;
+				int nThreads             = 1;
+#ifdef YADE_OPENMP
+				if (nI >= flexa::tuning::kStepperParallelMin) nThreads = omp_get_max_threads();
+#endif
+				computeSides(nThreads);
+				sidesMade = true;
+#ifdef YADE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(nThreads)
+#endif
+				for (long li = 0; li < nI; ++li) {
+					if (prefetch) fetchAhead(li);
+					const Interaction& I = *intrs[li];
+					Real               r1, r2;
+					if (!I.isReal()) screen(I, r1, r2);
+				}
+				finishMarks();
+				marks.earlyIter     = scene->iter;
+				marks.earlyLoopIx   = loopIx;
+				marks.earlyErasures = flexa::sceneState(scene).elementErasures;
+			}
+			/// After markOnly, for the estimate of the same step (FlexTimeStepper::earlyMarksHold):
+			/// the marks made are taken as this pass's own.
+			void adoptMarks()
+			{
+				reuse = mark && canSkip && marks.valid(scene);
+				if (reuse && marks.pair.size() < scene->interactions->size()) // (interactions added since: no mark yet)
+					marks.pair.resize(scene->interactions->size(), std::make_pair(Body::id_t(-1), Body::id_t(-1)));
 			}
 			/// the bodies as the estimate saw them (id order)
 			const std::vector<StepBody>& bodies() const { return sb; }
@@ -250,6 +284,8 @@ namespace flexa {
 			const bool                                            prefetch, canSkip, mark;
 			std::vector<std::pair<Body::id_t, Body::id_t>>* const skippedOut;
 			flexa::UnreachableMarks&                              marks;
+			bool                                                  reuse     = false; // adoptMarks
+			bool                                                  sidesMade = false; // markOnly made them
 			std::vector<Real>                                     row, rowRot;
 			std::vector<Side>                                     sides;
 			// the contact law, for rolling resistance between spheres (a rotational spring kr)
@@ -462,25 +498,53 @@ namespace flexa {
 				}
 			}
 
+			// valid until the collider runs (else none: marks.set stays false)
+			void finishMarks()
+			{
+				const shared_ptr<Engine> collider = flexa::insertionSortCollider(scene);
+				marks.collider                    = collider;
+				marks.runs                        = &static_cast<const InsertionSortCollider&>(*collider).numAction;
+				marks.runsAtMarking               = *marks.runs;
+				marks.colliderIx                  = std::find(scene->engines.begin(), scene->engines.end(), collider) - scene->engines.begin();
+				marks.still                       = still();
+				marks.set                         = true;
+			}
+
+			// A potential pair: -1 if it never counts (no contact possible, no body, no radius), 1 if
+			// it cannot touch before the collider runs again (left out, and marked with `mark`), else
+			// 0 (it counts, with contact radii r1, r2).
+			int screen(const Interaction& I, Real& r1, Real& r2)
+			{
+				if (!I.functorCache.geomExists) return -1; // bonded neighbours: never a contact
+				const Body::id_t i1 = I.getId1(), i2 = I.getId2();
+				if (i1 < 0 || i2 < 0 || i1 >= nb || i2 >= nb) return -1;
+				const StepBody* bs[2] = { &sb[i1], &sb[i2] };
+				if (!bs[0]->mat || !bs[1]->mat || !bs[0]->shaped || !bs[1]->shaped) return -1; // (no body: no material, no shape)
+				r1 = bs[0]->radius;
+				r2 = bs[1]->radius;
+				if (r1 <= 0) r1 = r2;
+				if (r2 <= 0) r2 = r1;
+				if (!(r1 > 0)) return -1;
+				if (!canSkip) return 0;
+				if (reuse && flexa::markMatches(marks.pair.data(), marks.pair.size(), I)) {
+					if (skippedOut) skippedOut->emplace_back(i1, i2);
+					return 1;
+				}
+				if (!cannotTouchBeforeCollider(i1, i2)) return 0;
+				if (skippedOut) skippedOut->emplace_back(i1, i2);
+				if (mark && I.linIx >= 0 && (size_t)I.linIx < marks.pair.size()) marks.pair[I.linIx] = std::make_pair(i1, i2);
+				return 1;
+			}
+
 			// A potential pair: the stiffness Ip2_FrictMat_FrictMat_FrictPhys will give it, unless it
 			// cannot touch before the collider runs again. Returns 1 if it was left out, else 0.
 			long potentialPairRows(const Interaction& I, Real* myRow, Real* myRot)
 			{
-				if (!I.functorCache.geomExists) return 0; // bonded neighbours: never a contact
+				Real      r1 = 0, r2 = 0;
+				const int s = screen(I, r1, r2);
+				if (s) return s > 0;
 				const Body::id_t i1 = I.getId1(), i2 = I.getId2();
-				if (i1 < 0 || i2 < 0 || i1 >= nb || i2 >= nb) return 0;
-				const StepBody* bs[2] = { &sb[i1], &sb[i2] };
-				if (!bs[0]->mat || !bs[1]->mat || !bs[0]->shaped || !bs[1]->shaped) return 0; // (no body: no material, no shape)
-				Real r1 = bs[0]->radius, r2 = bs[1]->radius;
-				if (r1 <= 0) r1 = r2;
-				if (r2 <= 0) r2 = r1;
-				if (!(r1 > 0)) return 0;
-				if (canSkip && cannotTouchBeforeCollider(i1, i2)) {
-					if (skippedOut) skippedOut->emplace_back(i1, i2);
-					if (mark && I.linIx >= 0 && (size_t)I.linIx < marks.pair.size()) marks.pair[I.linIx] = std::make_pair(i1, i2);
-					return 1;
-				}
-				const FrictMat *m1 = bs[0]->mat, *m2 = bs[1]->mat;
+				const FrictMat * m1 = sb[i1].mat, *m2 = sb[i2].mat;
 				const Real      k1 = m1->young * r1, k2 = m2->young * r2, kn = 2 * k1 * k2 / (k1 + k2);
 				const Real      s1 = k1 * m1->poisson, s2 = k2 * m2->poisson, ks = (s1 + s2 > 0) ? 2 * s1 * s2 / (s1 + s2) : 0;
 				potentialRows(myRow, myRot, i1, i2, kn, ks);
