@@ -73,8 +73,13 @@
 # fz + m g), its depth below its start and its speed at the end (impact); contacts per particle
 # (ours: real interactions / grains, walls included; LAMMPS: contact/atom summed / 2 / grains,
 # walls excluded).
-# Writes bench/results/lammps_grains[_quick].csv, lammps_grains[_quick]_raw.csv (every run) and
-# lammps_grains[_quick]_machine.txt, and prints a table.
+# Where the time goes (lammps_grains[_quick]_sections.csv, printed): LAMMPS's own timing breakdown
+# of the timed run (Pair, Neigh, Modify: the fixes, nve/sphere and the walls; Comm, Output and
+# Other together), and ours from O.timingEnabled (each engine's execTime in the timed run; the
+# rest of the wall time, YADE's own loop between the engines, as "outside the engines"), both in
+# microseconds per particle-step, medians over the rounds.
+# Writes bench/results/lammps_grains[_quick].csv, lammps_grains[_quick]_raw.csv (every run),
+# lammps_grains[_quick]_sections.csv and lammps_grains[_quick]_machine.txt, and prints tables.
 import argparse
 import csv
 import json
@@ -227,13 +232,19 @@ def run_yade(a, p, grains, kind, copies, case, steps):
         import builtins  # PyRunner's command runs in YADE's namespace: reach the function through builtins
         builtins._lammps_grains_sample = sample
         O.engines = O.engines + [PyRunner(command="_lammps_grains_sample()", iterPeriod=10, label="sampler")]
+    O.timingEnabled = True
+    for e in O.engines:
+        e.execTime = 0
     t0 = time.perf_counter()
     O.run(steps, True)
     t = time.perf_counter() - t0
+    O.timingEnabled = False
+    parts = {(e.label or type(e).__name__): e.execTime / 1e3 / (steps * n) for e in O.engines}
+    parts["outside the engines"] = max(0.0, 1e6 * t / (steps * n) - sum(parts.values()))
     grains_b = [b for b in O.bodies if b is not None and b.dynamic and b.id != imp and b.shape.__class__.__name__ == "Sphere"]
     ke = sum(0.5 * b.state.mass * b.state.vel.squaredNorm() for b in grains_b)
     vmax = max(b.state.vel.norm() for b in grains_b)
-    r = dict(us=1e6 * t / (steps * n), n=n, steps=steps, dt=O.dt, contacts_pp=(O.interactions.countReal() + sum(e.contacts for e in O.engines if e.label == "grainEngine")) / (copies * len(grains)), ke=ke, vmax=vmax)
+    r = dict(us=1e6 * t / (steps * n), parts=parts, n=n, steps=steps, dt=O.dt, contacts_pp=(O.interactions.countReal() + sum(e.contacts for e in O.engines if e.label == "grainEngine")) / (copies * len(grains)), ke=ke, vmax=vmax)
     if imp is not None:
         r.update(peak_kN=peak[0] / 1e3, depth=z0 - O.bodies[imp].state.pos[2], v_end=O.bodies[imp].state.vel[2])
     return r
@@ -356,7 +367,7 @@ def run_lammps(a, p, grains, copies, case, law, kn, workdir, steps):
         raise RuntimeError(f"no loop time for the timed run in {log}")
     t = float(loops[1][0])
     lines = text.splitlines()
-    r = dict(us=1e6 * t / (steps * n), n=n, steps=steps, dt=a.dt)
+    r = dict(us=1e6 * t / (steps * n), parts=lammps_sections(text, steps, n), n=n, steps=steps, dt=a.dt)
     last = thermo_rows(lines, "Step c_keg")[-1][-1]
     r.update(ke=last[1], vmax=last[2], contacts_pp=last[3] / 2 / ng, atoms_lost=n - int(last[4]))
     nb = re.findall(r"Total # of neighbors = (\d+)", text)
@@ -370,6 +381,37 @@ def run_lammps(a, p, grains, copies, case, law, kn, workdir, steps):
         z0 = timed_rows[0][3]
         r.update(peak_kN=max(abs(x[2] + m * G) for x in timed_rows[1:]) / 1e3, depth=z0 - timed_rows[-1][3], v_end=timed_rows[-1][4])
     return r
+
+
+def lammps_sections(text, steps, n):
+    """LAMMPS's timing breakdown of the timed run (the table after its "Loop time ... for
+    <steps> steps"), average seconds -> microseconds per particle-step: Pair, Neigh, Modify, and
+    Comm + Output + Other as other."""
+    at = text.find(f"for {steps} steps")
+    block = text[at:text.find("Loop time", at + 1)] if at >= 0 else ""
+    sec = {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+)\s*\|\s*[0-9.eE+-]*\s*\|\s*([0-9.eE+-]+)", block, re.M)}
+    if not {"Pair", "Neigh", "Modify"} <= set(sec):
+        raise RuntimeError(f"no timing breakdown for the {steps}-step run in the LAMMPS log")
+    us = lambda x: 1e6 * x / (steps * n)  # noqa: E731
+    return {"Pair": us(sec["Pair"]), "Neigh": us(sec["Neigh"]), "Modify": us(sec["Modify"]),
+            "other": us(sec.get("Comm", 0) + sec.get("Output", 0) + sec.get("Other", 0))}
+
+
+# the parts of the time, ours (engine labels) and LAMMPS's (sections), in the sections table
+PARTS = [("grain-grain contacts", ("grainEngine",), ("Pair",)),
+         ("neighbour lists", ("collider",), ("Neigh",)),
+         ("walls and facets", ("interactionLoop",), ()),
+         ("integration", ("newton",), ()),
+         ("LAMMPS fixes: integration, walls", (), ("Modify",)),
+         ("other", None, ("other",))]
+
+
+def part_of(parts, names):
+    """The sum of these parts (names None: all the others than PARTS names)."""
+    if names is None:
+        named = {x for _, ours, theirs in PARTS if ours for x in ours} | {x for _, ours, theirs in PARTS for x in theirs}
+        return sum(v for k, v in parts.items() if k not in named)
+    return sum(parts.get(k, 0.0) for k in names)
 
 
 def med_range(v):
@@ -396,7 +438,7 @@ def main():
     sizes = [1] + ([] if a.no_big else [a.copies])
     big_eng = a.big_engines.split(",")
     raw = []
-    raw_keys = ["copies", "grains", "case", "engine", "round", "us", "n", "steps", "dt", "contacts_pp", "neigh_pp", "ke", "vmax", "peak_kN", "depth", "v_end", "atoms_lost"]
+    raw_keys = ["copies", "grains", "case", "engine", "round", "us", "parts", "n", "steps", "dt", "contacts_pp", "neigh_pp", "ke", "vmax", "peak_kN", "depth", "v_end", "atoms_lost"]
     raw_fh = open(os.path.join(a.out, f"lammps_grains{tag}_raw.csv"), "w", newline="")
     raw_w = csv.DictWriter(raw_fh, fieldnames=raw_keys)
     raw_w.writeheader()
@@ -414,7 +456,7 @@ def main():
                 r = run_yade_fresh(a, copies, case, e, steps)
             r.update(copies=copies, grains=copies * len(grains), case=case, engine=e, round=rnd)
             raw.append(r)
-            raw_w.writerow(r)
+            raw_w.writerow(dict(r, parts=";".join(f"{k}={v:.5f}" for k, v in r["parts"].items())))
             raw_fh.flush()
             extra = f", peak {r['peak_kN']:.1f} kN, depth {r['depth'] * 1e3:.0f} mm, v_end {r['v_end']:.2f} m/s" if case == "impact" else ""
             print(f"  {copies}x {case:6s} round {rnd} {e:10s} {r['us']:7.3f} us/particle-step (dt {r['dt']:.3g}), contacts/grain {r['contacts_pp']:.2f}, "
@@ -466,6 +508,27 @@ def main():
         print(f"{r['case']:36s} {r['contacts_pp_yadeflex']:.2f}/{r['contacts_pp_lammps']:.2f}; KE {r['ke_end_yadeflex_J']}/{r['ke_end_lammps_J']}; "
               f"vmax {r['vmax_end_yadeflex']}/{r['vmax_end_lammps']}" + (f"; peak {r['peak_kN_yadeflex']}/{r['peak_kN_lammps']} kN, depth {r['depth_mm_yadeflex']}/{r['depth_mm_lammps']} mm"
                                                                         if r["peak_kN_yadeflex"] != "" else ""))
+    sec_rows = []
+    for copies in sizes:
+        for case in ("rest", "impact"):
+            for ours, theirs, what in (("flex", "lmp_gran", "rolling"), ("flex_norol", "lmp_hooke", "no rolling")):
+                ry = [r for r in raw if r["copies"] == copies and r["case"] == case and r["engine"] == ours]
+                rl = [r for r in raw if r["copies"] == copies and r["case"] == case and r["engine"] == theirs]
+                if not ry or not rl:
+                    continue
+                for name, on, tn in PARTS:
+                    y = statistics.median(part_of(r["parts"], on) for r in ry) if on is None or on else None
+                    lm = statistics.median(part_of(r["parts"], tn) for r in rl) if tn else None
+                    sec_rows.append(dict(case=f"{copies * len(grains)} grains, {case}, {what}", part=name,
+                                         yadeflex_us_per_particle_step="" if y is None else round(y, 4),
+                                         lammps_us_per_particle_step="" if lm is None else round(lm, 4), rounds=len(ry)))
+    print("\nwhere the time goes, us per particle-step (medians): yade-flex engines (O.timingEnabled), LAMMPS's timing breakdown")
+    for r in sec_rows:
+        print(f"{r['case']:36s} {r['part']:34s} {str(r['yadeflex_us_per_particle_step']):>8s} {str(r['lammps_us_per_particle_step']):>8s}")
+    with open(os.path.join(a.out, f"lammps_grains{tag}_sections.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(sec_rows[0]))
+        w.writeheader()
+        w.writerows(sec_rows)
     path = os.path.join(a.out, f"lammps_grains{tag}.csv")
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))

@@ -49,6 +49,16 @@ def _lammps(rows):
     return [dict(r, ratio_text=f"{float(r['ratio']):.2f}x ({r['ratio_range']})", over_plain=1 / float(r["yadeflex_over_plain"])) for r in rows]
 
 
+def _lammps_sections(rows):
+    """One row per case: each part's time, ours and LAMMPS's side by side."""
+    by = {}
+    for r in rows:
+        c = by.setdefault(r["case"], dict(case=r["case"]))
+        c[r["part"] + "|y"] = r["yadeflex_us_per_particle_step"]
+        c[r["part"] + "|l"] = r["lammps_us_per_particle_step"]
+    return list(by.values())
+
+
 def _grain_kernel(rows):
     return [dict(r, kernel_text=f"{float(r['kernel_us']):.3f} ({r['kernel_range']})", plugin_text=f"{float(r['plugin_us']):.3f} ({r['plugin_range']})",
                  lammps_text=f"{float(r['lammps_us']):.3f} ({r['lammps_range']})", engine_text=f"{float(r['engine_us']):.3f} ({r['engine_range']})") for r in rows]
@@ -66,6 +76,12 @@ TABLES = {
         ("case (one thread)", "case", text), ("yade-flex µs/particle-step", "yadeflex_us_per_particle_step", fixed(3)),
         ("LAMMPS", "lammps_us_per_particle_step", fixed(3)), ("ratio (range)", "ratio_text", text), ("LAMMPS law", "lammps_law", text),
         ("plain YADE", "plain_yade_us", fixed(3)), ("yade-flex faster than plain YADE", "over_plain", times(1))]),
+    "lammps_grains_sections": dict(csv="lammps_grains_sections.csv", rows=_lammps_sections, columns=[
+        ("case (one thread), µs/particle-step", "case", text), ("grain-grain: yade-flex's grain engine", "grain-grain contacts|y", fixed(3)),
+        ("LAMMPS Pair", "grain-grain contacts|l", fixed(3)), ("walls and facets: YADE's loop", "walls and facets|y", fixed(3)),
+        ("integration: ours", "integration|y", fixed(3)), ("LAMMPS Modify (integration, walls)", "LAMMPS fixes: integration, walls|l", fixed(3)),
+        ("YADE's collider", "neighbour lists|y", fixed(3)), ("LAMMPS Neigh", "neighbour lists|l", fixed(3)),
+        ("other: ours", "other|y", fixed(3)), ("LAMMPS", "other|l", fixed(3))]),
     "time_to_result": dict(csv="time_to_result.csv", rows=_time_to_result, columns=[
         ("stage", "stage", text), ("before [s]", "before_s", fixed(1)), ("after [s]", "after_s", fixed(1)), ("speed-up", "speedup", times(2))]),
     "cylinders_timing": dict(csv="cylinders_timing.csv", columns=[
