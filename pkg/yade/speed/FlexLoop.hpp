@@ -28,8 +28,9 @@
 //       order, without reading its interaction object. A record holds while the object at its
 //       place in the container is the same (the record keeps it alive, so no new object takes its
 //       address) and, for a sphere pair apart, while the functors, quickReject, the scene and the
-//       container stay the same; for a marked pair, also until the marks are made again or the
-//       collider runs. Objects are asked for ahead by reads, not by place (most places are left
+//       container stay the same; for a marked pair, also while marks hold: when they are made
+//       again (with nothing else changed), the record is asked against the new marks by its place
+//       and ids. Objects are asked for ahead by reads, not by place (most places are left
 //       out from their records);
 //  2. it runs the functors on the listed ones, asking for their bodies, geom and phys `ahead[1]`
 //     listed interactions ahead and for the bodies' states and shapes `ahead[2]` ahead. An
@@ -152,6 +153,10 @@ private:
 	std::vector<Remembered>              remembered;
 	std::vector<shared_ptr<Interaction>> held;
 	unsigned                             recGen = 0, genMarked = 0, genQuick = 0; // (records start at gen 0, kind 0)
+	// the generation of the marked records (kind 1) before the marks were last made again, when
+	// nothing else changed and marks held before and after (0: none): such a record still leaves
+	// its pair out if the new marks hold its pair at its place (Step::markedBefore)
+	unsigned genMarkedBefore = 0;
 	// what the records were made against (a change starts a new generation)
 	const Scene*                recScene       = nullptr;
 	const InteractionContainer* recContainer   = nullptr;

@@ -59,6 +59,7 @@ public:
 	const SphereMotion*                           mot      = nullptr;
 	Remembered*                                   rec      = nullptr;
 	unsigned                                      gen[4]   = { 0, 0, 0, 0 }; // by kind
+	unsigned                                      genBefore = 0;              // L.genMarkedBefore while the marks hold (markedBefore)
 	std::vector<FlexGrainEngine::Gathered>        gathered;                  // (makeSphereTable)
 	bool                                          weighted = false;
 	std::vector<Real>                             prefix; // prefix[c]: the weight of blocks 0..c-1
@@ -367,7 +368,11 @@ public:
 					L.remembered.assign(L.remembered.size(), Remembered());
 					L.recGen = 0;
 				}
-				L.genMarked = ++L.recGen;
+				// only the marks made again (both sets valid): the old marked records are asked
+				// against the new marks (markedBefore)
+				const bool onlyMarks = !newQuick && !wrap && marked.valid && L.recMarksValid && ic.iterColliderLastRun == L.recColliderRun;
+				L.genMarkedBefore    = onlyMarks ? L.genMarked : 0;
+				L.genMarked          = ++L.recGen;
 				if (newQuick || wrap) L.genQuick = ++L.recGen;
 				L.recScene       = scene;
 				L.recContainer   = &ic;
@@ -384,9 +389,10 @@ public:
 			L.held.clear();
 			L.recScene = nullptr;
 		}
-		gen[1] = L.genMarked;
-		gen[2] = L.genQuick;
-		gen[3] = L.genQuick;
+		gen[1]    = L.genMarked;
+		gen[2]    = L.genQuick;
+		gen[3]    = L.genQuick;
+		genBefore = rec && marked.valid ? L.genMarkedBefore : 0;
 	}
 	// whether pass 1 can leave out the pair at i from its record alone (kind 1 still asks whether
 	// its bodies exist, kind 2 the table)
@@ -395,6 +401,17 @@ public:
 		const Remembered& r = rec[i];
 		return (r.kind && r.gen == gen[r.kind] && r.ptr == intrs[i].get()) ? &r : nullptr;
 	}
+	// A record of a marked pair from the marks before these (genBefore), its object still in its
+	// place: the pair was left out on every step since, untouched, so it is still left out if
+	// these marks hold it at its place (what marked(J) would find, without reading J).
+	const Remembered* markedBefore(long i) const
+	{
+		if (!genBefore) return nullptr;
+		const Remembered& r = rec[i];
+		return (r.kind == 1 && r.gen == genBefore && r.ptr == intrs[i].get() && marked.holds(i, r.id1, r.id2)) ? &r : nullptr;
+	}
+	// whether pass 1 leaves the object at i unread (its record decides, or sends it to pass 2)
+	bool unread(long i) const { return rec && (recordOf(i) || markedBefore(i)); }
 
 	// The split of the blocks among the threads: by each block's time on the last step (a block
 	// new since then at the mean), because the work is uneven along the container (the contacts
@@ -494,13 +511,21 @@ public:
 		long pf = lo, ahead = 0;
 		auto stream = [&]() {
 			for (; ahead < kFar && pf < hi; ++pf)
-				if (!rec || !recordOf(pf)) {
+				if (!unread(pf)) {
 					flexa::prefetch(intrs[pf].get(), sizeof(Interaction));
 					++ahead;
 				}
 		};
 		if (streamIn) stream();
 		for (long i = lo; i < hi; ++i) {
+			if (rec && genBefore)
+				if (const Remembered* r = markedBefore(i))
+					if (bodies.get(r->id1) && bodies.get(r->id2)) {
+						rec[i].gen = gen[1]; // (a record of these marks now)
+						++cnt.recalled;
+						++cnt.marked;
+						continue;
+					}
 			if (rec)
 				if (const Remembered* r = recordOf(i)) {
 					if (r->kind == 1) {
@@ -525,7 +550,7 @@ public:
 					}
 				}
 			if (streamIn) {
-				if (i < pf && !(rec && recordOf(i))) --ahead; // (this one was asked for)
+				if (i < pf && !unread(i)) --ahead; // (this one was asked for)
 				stream();
 			}
 			// (a pair whose body vanished goes to the full path, which erases it as InteractionLoop does)
