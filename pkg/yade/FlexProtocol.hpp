@@ -50,13 +50,16 @@ namespace flexa {
 	}
 
 	// ---- 2. unreachable marks
-	/// Whether the mark at I's index (pairs[0..n), UnreachableMarks::pair of valid marks) is I's pair.
-	inline bool markMatches(const IdPair* pairs, size_t n, const Interaction& I)
+	/// Whether the mark at index i (pairs[0..n), UnreachableMarks::pair of valid marks) is the pair
+	/// of bodies id1 and id2, in either order.
+	inline bool markMatches(const IdPair* pairs, size_t n, long i, Body::id_t id1, Body::id_t id2)
 	{
-		if (I.linIx < 0 || (size_t)I.linIx >= n) return false;
-		const IdPair& p = pairs[I.linIx];
-		return (p.first == I.getId1() && p.second == I.getId2()) || (p.first == I.getId2() && p.second == I.getId1());
+		if (i < 0 || (size_t)i >= n) return false;
+		const IdPair& p = pairs[i];
+		return (p.first == id1 && p.second == id2) || (p.first == id2 && p.second == id1);
 	}
+	/// Whether the mark at I's index is I's pair.
+	inline bool markMatches(const IdPair* pairs, size_t n, const Interaction& I) { return markMatches(pairs, n, I.linIx, I.getId1(), I.getId2()); }
 	inline bool markedUnreachable(const Scene* scene, const Interaction& I)
 	{
 		const UnreachableMarks& m = sceneState(scene).unreachable;

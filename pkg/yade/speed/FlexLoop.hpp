@@ -132,7 +132,7 @@ private:
 	// pairs that quickReject could have judged on the last step (no contact, and the sphere-sphere
 	// functor, or none cached yet between two bodies of sphereIds, or a side's functor with a
 	// sphere); -1: not counted yet. The table is made only when this is not 0
-	// (a net of wires has no sphere pairs: making the table for nothing cost it 5 us of a 35 us step)
+	// (a net of wires has no sphere pairs: a table made for nothing would be a sizeable share of its short step)
 	long lastCandidates = -1;
 	// the threads' own sums of the contact forces (threadSums, several threads)
 	flexa::ThreadForceSums sums;

@@ -56,8 +56,8 @@ namespace flexa {
 #pragma omp parallel for schedule(static) firstprivate(lastMat, lastFrict) if (n >= flexa::tuning::kStepperBodiesParallelMin)
 #endif
 			for (long id = 0; id < n; ++id) {
-				// the bodies and their states and shapes ahead (without, it waited on each body's
-				// state, 12% of the estimate)
+				// the bodies and their states and shapes ahead (the bodies are scattered on the heap:
+				// without, the pass waits on each body's state)
 				flexa::prefetchBodiesAhead(body, n, id, [](const Body& c) {
 					flexa::prefetch(c.state.get(), sizeof(State));
 					flexa::prefetch(c.shape.get(), sizeof(Sphere));
