@@ -64,6 +64,22 @@ def _grain_kernel(rows):
                  lammps_text=f"{float(r['lammps_us']):.3f} ({r['lammps_range']})", engine_text=f"{float(r['engine_us']):.3f} ({r['engine_range']})") for r in rows]
 
 
+def _impact_budget(rows):
+    """One row per part: one thread and two side by side, with the speed-up of two."""
+    by = {}
+    for r in rows:
+        c = by.setdefault(r["part"], dict(part=r["part"], s1="", us1="", share1="", s2="", us2="", speedup=""))
+        if r["threads"] in ("1", "2"):
+            t = r["threads"]
+            c["s" + t], c["us" + t] = r["seconds"], r["us_per_step"]
+            if t == "1":
+                c["share1"] = f"{100 * float(r['share']):.0f}%"
+    for c in by.values():
+        if c["s1"] and c["s2"] and float(c["s2"]) > 0:
+            c["speedup"] = f"{float(c['s1']) / float(c['s2']):.2f}x"
+    return list(by.values())
+
+
 # name: csv (in results/), optional rows (a function of the CSV's rows), columns (header, key, format)
 TABLES = {
     "grain_kernel": dict(csv="grain_kernel.csv", rows=_grain_kernel, columns=[
@@ -82,6 +98,9 @@ TABLES = {
         ("integration: ours", "integration|y", fixed(3)), ("LAMMPS Modify (integration, walls)", "LAMMPS fixes: integration, walls|l", fixed(3)),
         ("YADE's collider", "neighbour lists|y", fixed(3)), ("LAMMPS Neigh", "neighbour lists|l", fixed(3)),
         ("other: ours", "other|y", fixed(3)), ("LAMMPS", "other|l", fixed(3))]),
+    "impact_budget": dict(csv="impact_budget.csv", rows=_impact_budget, columns=[
+        ("part of the default impact", "part", text), ("-j1 [s]", "s1", text), ("-j1 µs/step", "us1", text), ("share at -j1", "share1", text),
+        ("-j2 [s]", "s2", text), ("-j2 µs/step", "us2", text), ("two threads' speed-up", "speedup", text)]),
     "time_to_result": dict(csv="time_to_result.csv", rows=_time_to_result, columns=[
         ("stage", "stage", text), ("before [s]", "before_s", fixed(1)), ("after [s]", "after_s", fixed(1)), ("speed-up", "speedup", times(2))]),
     "cylinders_timing": dict(csv="cylinders_timing.csv", columns=[
