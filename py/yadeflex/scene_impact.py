@@ -161,10 +161,12 @@ def read_clump(path):
 
 
 def surface_under(x, y, half_width):
-    """The top [m] of the highest body under the disc of radius half_width about (x, y): nodes
-    and spheres by their radius, YADE facets by their vertices, boxes by their extents, walls
-    normal to z by their plane (elements lie between their nodes); ValueError if nothing is."""
-    from yade.wrapper import Box, Facet, FlexNode, Sphere, Wall
+    """The top [m] of the highest body under the disc of radius half_width about (x, y): spheres
+    by their radius; yade-flex cylinders and facets by their nodes plus their own radius (a
+    segment or a flat triangle is nowhere higher than its highest node; a wire thicker than its
+    nodes' display radius reaches higher than they do); YADE facets by their vertices, boxes by
+    their extents, walls normal to z by their plane; ValueError if nothing is."""
+    from yade.wrapper import Box, Facet, FlexCylinder, FlexFacet, FlexNode, Sphere, Wall
     top = -math.inf
     for b in O.bodies:
         if b is None or b.isClump:
@@ -178,17 +180,25 @@ def surface_under(x, y, half_width):
             if math.hypot(pos[0] - x, pos[1] - y) <= half_width + sh.radius:
                 top = max(top, pos[2] + sh.radius)
             continue
-        if isinstance(sh, Facet):
+        reach = 0.0
+        if isinstance(sh, (FlexCylinder, FlexFacet)):
+            ends = (sh.node1, sh.node2) if isinstance(sh, FlexCylinder) else (sh.node1, sh.node2, sh.node3)
+            if any(i < 0 or i >= len(O.bodies) or O.bodies[i] is None for i in ends):
+                continue
+            pts = [O.bodies[i].state.pos for i in ends]
+            reach = sh.radius
+        elif isinstance(sh, Facet):
             pts = [pos + b.state.ori * v for v in sh.vertices]
         elif isinstance(sh, Box):
             e = sh.extents
             pts = [pos + b.state.ori * Vector3(i * e[0], j * e[1], k * e[2]) for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]
         else:
             continue
-        # (a facet or box by the rectangle around its corners)
-        if (min(p[0] for p in pts) - half_width <= x <= max(p[0] for p in pts) + half_width
-                and min(p[1] for p in pts) - half_width <= y <= max(p[1] for p in pts) + half_width):
-            top = max(top, max(p[2] for p in pts))
+        # (by the rectangle around its corners, widened by its radius)
+        w = half_width + reach
+        if (min(p[0] for p in pts) - w <= x <= max(p[0] for p in pts) + w
+                and min(p[1] for p in pts) - w <= y <= max(p[1] for p in pts) + w):
+            top = max(top, max(p[2] for p in pts) + reach)
     if top == -math.inf:
         raise ValueError(f"Boulder.above=({x:g}, {y:g}): no body under that point to fall onto")
     return top

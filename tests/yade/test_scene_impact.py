@@ -40,6 +40,23 @@ def test_a_boulder_come_to_rest_on_a_net_loads_its_supports_with_every_weight(sc
     assert params["reactions"] == {"border": sorted(border)}
 
 
+def test_the_surface_under_a_boulder_counts_each_element_by_its_own_radius(scene):
+    """Where a boulder starts (Boulder.above): a wire or a membrane reaches its own radius above
+    its nodes, whatever radius the nodes are drawn with, and a wire crossing under the boulder
+    counts with both ends outside its footprint (a ring of 5 mm bar on 1 mm nodes made the
+    reduced module's boulder touch 2 mm into its 5 mm gap)."""
+    from yadeflex.scene_impact import surface_under
+    a, b = yf.node((-1.0, 0, 0), 0.001), yf.node((1.0, 0, 0), 0.001)
+    yf.cylinder(a, b, 0.005, yf.steel())
+    assert surface_under(0, 0, 0.05) == 0.005
+    assert surface_under(0, 0.05 + 0.005, 0.05) == 0.005  # (the disc's edge touches the wire's side)
+    with pytest.raises(ValueError, match="no body under"):
+        surface_under(0, 0.05 + 0.006, 0.05)
+    n = [yf.node(p, 0.0005) for p in ((-0.1, -0.1, 0.1), (0.1, -0.1, 0.1), (0, 0.1, 0.1))]
+    yf.facet(*n, yf.geotextile(), thickness=0.004)
+    assert surface_under(0, 0, 0.05) == pytest.approx(0.102, rel=1e-12)
+
+
 def test_an_undamped_drop_closes_its_energy_and_checks_its_free_fall(scene, tmp_path):
     """No damping: the energy balance closes (the impact's energy against every term O.energy
     books) and the speed at the first contact is that of the fall; the filtered peak force lies
