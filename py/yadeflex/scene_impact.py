@@ -18,6 +18,7 @@ from . import checks as C
 from . import parts as P
 from . import runner as R
 from .boulder import boulder_material, make_boulder
+from .drop import lower_onto
 from .files import write_json
 from .force_filter import CUTOFF_HZ, describe
 from .scene import contact_law
@@ -137,7 +138,10 @@ class Boulder:
             v = math.sqrt(max(0.0, v * v - 2 * g * self.gap))  # (the gap is fallen before the contact)
         mat = boulder_material(self.density)
         shape = self.shape
-        return make_boulder(shape, self.size(), self.mass, mat, x, y, bottom, Vector3(*self.direction) * v)
+        bid = make_boulder(shape, self.size(), self.mass, mat, x, y, bottom, Vector3(*self.direction) * v)
+        if self.above is not None:  # (its first touch after a fall of exactly the gap)
+            lower_onto(bid, self.gap)
+        return bid
 
 
 def read_clump(path):

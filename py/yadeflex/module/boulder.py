@@ -7,7 +7,9 @@ from yade.minieigenHP import Vector3
 
 from ..boulder import boulder_material, make_boulder, touches
 from ..constants import G
+from ..drop import lower_onto
 from ..scene import step_until
+from ..scene_impact import Boulder, surface_under
 from ..mass_scaling import scale_node_masses
 from .fill import fill_top
 from .fill_cache import filled_module
@@ -15,9 +17,9 @@ from .ids import ModuleIds
 
 
 def add_boulder(params, ids, gap=0.005):
-    """The boulder, its lowest point `gap` [m] above the highest point of the module (fill,
-    top ring), moving down with the free-fall speed of params (drop height reduced by the
-    gap, so that it reaches the fill top at sqrt(2 g h)). Returns its body id."""
+    """The boulder over the module, placed so that it first touches it (fill, rings, wires or
+    lining: yadeflex.drop) after a fall of `gap` [m], moving down with the free-fall speed of
+    params less that fall's (it touches at sqrt(2 g h)). Returns its body id."""
     params.validate()
     ids = ModuleIds.of(ids)
     top = max(fill_top(ids), max(O.bodies[n].state.pos[2] for n in ids["mesh_nodes"]) + 0.5 * params.ring_bar_diameter)
@@ -26,7 +28,12 @@ def add_boulder(params, ids, gap=0.005):
     v0 = math.sqrt(max(0.0, v_top * v_top - 2 * G * gap))
     mat = boulder_material(params.boulder_density)
     ox, oy = params.impact_offset
-    return make_boulder(params.boulder_shape, s, params.boulder_mass, mat, ox, oy, top + gap, Vector3(0, 0, -v0))
+    # (placed clear above everything under it first, then lowered onto its first touch)
+    clear = max(top, surface_under(ox, oy, Boulder(mass=params.boulder_mass, shape=params.boulder_shape, density=params.boulder_density,
+                                                   above=(ox, oy), speed=v_top).half_width()))
+    bid = make_boulder(params.boulder_shape, s, params.boulder_mass, mat, ox, oy, clear + gap, Vector3(0, 0, -v0))
+    lower_onto(bid, gap)
+    return bid
 
 
 def scale_lining_nodes(ids, m_min):
