@@ -198,7 +198,9 @@ void GrainContacts::step(const GrainMotion& m, long iter, double dt, GrainSums& 
 			if (kr > 0) {
 				const Vec3         dw  = m.angVel[j] - m.angVel[i];
 				const Vec3         dth = (dw - n.dot(dw) * n) * dt;
-				const CappedSpring rs  = cappedSpringStep(kr, L.rollingFriction * Reff * r.normalForce.norm(), rotateShear(s.roll, n), dth);
+				// (re)starting: no rolling moment either (the one it had was booked as released when it separated)
+				const Vec3         roll = rotateShear(handover ? Vec3(Vec3::Zero()) : s.roll, n);
+				const CappedSpring rs   = cappedSpringStep(kr, L.rollingFriction * Reff * r.normalForce.norm(), roll, dth);
 				s.roll                 = rs.value;
 				torque[i] -= rs.value;
 				torque[j] += rs.value;

@@ -493,8 +493,10 @@ bool Law2_FlexContactGeom_FrictPhys_CundallStrack::apply(FlexContactGeom& g, Fri
 		const Vector3r  dw = w2 - w1;
 		const Vector3r           dth  = (dw - n.dot(dw) * n) * scene->dt;
 		const Real               Reff = g.refR1 * g.refR2 / (g.refR1 + g.refR2);
-		const flex::CappedSpring rs
-		        = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), flex::rotateShear(g.rollMoment, n), dth);
+		// a contact (re)starting starts with no rolling moment, as with no shear: the moment it
+		// had left it when it separated (booked as released above)
+		const Vector3r           roll = flex::rotateShear(g.handover ? Vector3r(Vector3r::Zero()) : g.rollMoment, n);
+		const flex::CappedSpring rs   = flex::cappedSpringStep(kr, rollingFriction * Reff * r.normalForce.norm(), roll, dth);
 		g.rollMoment = rs.value;
 		flexa::addTorque(scene, sink, id1, -rs.value);
 		flexa::addTorque(scene, sink, id2, rs.value);

@@ -230,7 +230,7 @@ class ModuleParams:
         d["_fill_radii"] = [repr(float(x)) for x in fill_radii(self)]
         d["_fill_timestep_safety"] = FILL_TIMESTEP_SAFETY
         d["_preset"] = self.preset()
-        d["_version"] = 21  # raised whenever the code fills the same parameters differently (why: git log -S_version)
+        d["_version"] = 22  # raised whenever the code fills the same parameters differently (why: git log -S_version)
         if self.with_rope():
             d["_rope_version"] = 2  # the same for the rope
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
