@@ -19,8 +19,9 @@ Stages
      (unbalanced force too): the fill, released by the container, spreads out onto the lining
      and ends bearing on it. The structure's nodes are made heavier meanwhile (their weight
      kept), so that this quasi-static settle runs at the grains' time step, not the wires';
-  3. impact: the boulder is placed just above the fill with the free-fall velocity of its
-     drop height, and the run starts without numerical damping unless asked.
+  3. impact: the boulder is placed to touch the module (fill, rings, wires or lining) after a
+     5 mm fall, with the free-fall velocity of its drop height less that fall's, and the run
+     starts without numerical damping unless asked.
 Stages 1-2 are cached (O.save) under a key made of every parameter they depend on, so impacts
 with other boulders reuse the filled module.
 

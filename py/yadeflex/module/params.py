@@ -74,7 +74,7 @@ class ModuleParams:
                                meaning="its shape: a cube (a rigid clump of 64 spheres with the cube's mass and inertia) or a sphere")
     boulder_density: float = param(2400.0, unit="kg/m3", stage=IMPACT, meaning="its density (concrete)", row="boulder_mass",
                                    allowed=C.Range(500.0, 2e4, "kg/m3"))
-    drop_height: float = param(2.0, unit="m", stage=IMPACT, meaning="free fall of the boulder's lowest point onto the fill top", small=1.0,
+    drop_height: float = param(2.0, unit="m", stage=IMPACT, meaning="free fall of the boulder to its first touch of the module (fill, rings, wires or lining)", small=1.0,
                                allowed=C.Range(0.0, MAX_IMPACT_SPEED ** 2 / (2 * G), "m", lo_open=True,
                                                note=f"an impact speed up to {MAX_IMPACT_SPEED:g} m/s"))
     impact_velocity: float = param(None, unit="m/s", stage=IMPACT, meaning="or the impact speed", default_text="from --drop-height",
